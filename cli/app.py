@@ -1,0 +1,36 @@
+"""The `rustycs` program: a typer app whose commands live one per module in `commands/`.
+
+Heavy imports (numba, h5py, the engine) happen inside the commands, so that `rustycs --help`
+stays fast.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import typer
+
+from rustycs_cli.commands import bench, compare, info, plot, render, run, schema, sweep, validate
+from rustycs_cli.errors import UserError
+
+app = typer.Typer(
+    name="rustycs",
+    help="rustycs: a deterministic 2D rigid-body physics engine and batch simulator.\n\n"
+    "Example: rustycs run scenes/material_bounce.yaml",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+for module in (run, validate, schema, sweep, compare, render, plot, info, bench):
+    app.command(name=module.NAME, help=module.command.__doc__)(module.command)
+
+
+def main() -> None:
+    """Entry point: run the app, turning user errors into messages and exit code 2."""
+    try:
+        app()
+    except UserError as err:
+        for message in err.messages:
+            print(message, file=sys.stderr)
+        sys.exit(err.exit_code)

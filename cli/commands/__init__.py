@@ -1,0 +1,1 @@
+"""One module per `rustycs` command; each defines NAME and `command`."""

@@ -1,0 +1,8 @@
+"""`rustycs plot` (not yet implemented)."""
+
+NAME = "plot"
+
+
+def command() -> None:
+    """Not yet implemented."""
+    raise NotImplementedError

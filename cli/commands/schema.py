@@ -1,0 +1,8 @@
+"""`rustycs schema` (not yet implemented)."""
+
+NAME = "schema"
+
+
+def command() -> None:
+    """Not yet implemented."""
+    raise NotImplementedError
