@@ -1,0 +1,314 @@
+"""Regression comparison of two trajectories (`rustycs compare`).
+
+Two runs of the same scene should give bitwise identical files (the determinism guarantee), so the
+bytes are checked first; when they differ, each quantity gets error statistics so that a user can
+tell a rounding-level change from a real regression. Files can be far larger than memory, so both
+are read in blocks of frames and the statistics are accumulated block by block.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from rustycs_cli.errors import UserError
+
+if TYPE_CHECKING:
+    import h5py
+
+BODIES = "particles/bodies"
+# name -> (dataset path, whether it is an angle whose difference is wrapped to +-pi)
+STATE: dict[str, tuple[str, bool]] = {
+    "position": (f"{BODIES}/position/value", False),
+    "angle": (f"{BODIES}/angle/value", True),
+    "velocity": (f"{BODIES}/velocity/value", False),
+    "angular_velocity": (f"{BODIES}/angular_velocity/value", False),
+    "active": (f"{BODIES}/active/value", False),
+}
+WORST_BODIES = 5
+BLOCK_VALUES = 1 << 21  # values per dataset per block: 16 MB of float64
+
+
+class NotComparable(UserError):
+    """The two files do not describe the same bodies, time step or frames (exit code 2)."""
+
+
+@dataclass
+class QuantityErrors:
+    """Error statistics of one quantity, accumulated over blocks of frames."""
+
+    name: str
+    per_body: bool
+    values: int = 0
+    max_error: float = 0.0
+    error_sum: float = 0.0
+    outside: int = 0
+    first_tick: int | None = None
+    body_max: np.ndarray | None = None
+    body_outside: np.ndarray | None = None
+
+    def add_equal(self, values: int) -> None:
+        """Account for a block whose bytes are identical in both files (zero error)."""
+        self.values += values
+
+    def add(self, error: np.ndarray, outside: np.ndarray, steps: np.ndarray) -> None:
+        """Account for one block: `error` and `outside` have the frames on axis 0, bodies on axis 1."""
+        self.values += error.size
+        if error.size == 0:
+            return
+        self.max_error = max(self.max_error, float(error.max()))
+        self.error_sum += float(error.sum())
+        self.outside += int(outside.sum())
+        frames_outside = outside.reshape(len(outside), -1).any(axis=1)
+        if self.first_tick is None and frames_outside.any():
+            self.first_tick = int(steps[np.argmax(frames_outside)])
+        if self.per_body:
+            extra_axes = tuple(range(2, error.ndim))
+            body_max = error.max(axis=(0, *extra_axes))
+            body_outside = outside.sum(axis=(0, *extra_axes))
+            if self.body_max is None or self.body_outside is None:
+                self.body_max, self.body_outside = body_max, body_outside
+            else:
+                np.maximum(self.body_max, body_max, out=self.body_max)
+                self.body_outside += body_outside
+
+    @property
+    def mean_error(self) -> float:
+        return self.error_sum / self.values if self.values else 0.0
+
+    def worst_bodies(self, names: list[str]) -> list[dict[str, Any]]:
+        """The bodies with the largest error (largest first), those with a non-zero error only."""
+        if self.body_max is None or self.body_outside is None:
+            return []
+        order = np.argsort(-self.body_max, kind="stable")[:WORST_BODIES]
+        return [
+            {"name": names[i], "max_error": float(self.body_max[i]), "outside": int(self.body_outside[i])}
+            for i in order
+            if self.body_max[i] > 0
+        ]
+
+
+@dataclass
+class Comparison:
+    """The result of comparing trajectory `a` against the reference `b`."""
+
+    a: Path
+    b: Path
+    atol: float
+    rtol: float
+    frames: int
+    body_names: list[str]
+    identical: bool
+    quantities: list[QuantityErrors]
+    only_in_a: list[str] = field(default_factory=list)
+    only_in_b: list[str] = field(default_factory=list)
+
+    @property
+    def within_tolerance(self) -> bool:
+        return all(q.outside == 0 for q in self.quantities)
+
+    @property
+    def verdict(self) -> str:
+        if self.identical:
+            return "identical"
+        return "within tolerance" if self.within_tolerance else "different"
+
+    @property
+    def exit_code(self) -> int:
+        return 0 if self.within_tolerance else 1
+
+    def to_json(self) -> dict[str, Any]:
+        """A JSON-ready dict; non-finite errors are written as the strings "inf" / "nan"."""
+        return {
+            "a": str(self.a),
+            "b": str(self.b),
+            "comparable": True,
+            "result": self.verdict,
+            "identical": self.identical,
+            "within_tolerance": self.within_tolerance,
+            "atol": self.atol,
+            "rtol": self.rtol,
+            "frames": self.frames,
+            "bodies": len(self.body_names),
+            "quantities": {
+                q.name: {
+                    "max_error": _json_float(q.max_error),
+                    "mean_error": _json_float(q.mean_error),
+                    "values": q.values,
+                    "outside_tolerance": q.outside,
+                    "first_tick": q.first_tick,
+                    "worst_bodies": [
+                        {**body, "max_error": _json_float(body["max_error"])}
+                        for body in q.worst_bodies(self.body_names)
+                    ],
+                }
+                for q in self.quantities
+            },
+            "only_in_a": self.only_in_a,
+            "only_in_b": self.only_in_b,
+        }
+
+
+def _json_float(value: float) -> float | str:
+    return value if math.isfinite(value) else str(value)
+
+
+def compare_trajectories(
+    a: Path, b: Path, atol: float = 0.0, rtol: float = 0.0, block_frames: int | None = None
+) -> Comparison:
+    """Compare trajectory `a` against the reference `b`; |a-b| > atol + rtol*|b| is outside tolerance.
+
+    Raises NotComparable when the files hold different bodies, time steps or frames, and UserError
+    when either file is missing or is not a trajectory.
+    """
+    from rustycs_cli.trajectory import open_trajectory
+
+    if atol < 0 or rtol < 0:
+        raise UserError("--atol and --rtol must not be negative")
+    with open_trajectory(a) as fa, open_trajectory(b) as fb:
+        names, steps = _check_comparable(fa, fb)
+        datasets = dict(_datasets(fa, fb))
+        only_in_a = sorted(set(fa.get("observables", {})) - set(fb.get("observables", {})))
+        only_in_b = sorted(set(fb.get("observables", {})) - set(fa.get("observables", {})))
+        quantities = {name: QuantityErrors(name, per_body=name in STATE) for name in datasets}
+        identical = True
+        frames = len(steps)
+        block = block_frames or _block_frames(datasets, frames)
+        for start in range(0, frames, block):
+            stop = min(start + block, frames)
+            for name, (da, db, wrap) in datasets.items():
+                xa, xb = da[start:stop], db[start:stop]
+                if xa.dtype == xb.dtype and np.array_equal(_raw(xa), _raw(xb)):
+                    quantities[name].add_equal(xa.size)
+                    continue
+                identical = False
+                error, outside = _errors(xa, xb, atol, rtol, wrap)
+                quantities[name].add(error, outside, steps[start:stop])
+    return Comparison(
+        a, b, atol, rtol, frames, names, identical, list(quantities.values()), only_in_a, only_in_b
+    )
+
+
+def _check_comparable(fa: h5py.File, fb: h5py.File) -> tuple[list[str], np.ndarray]:
+    """Return the body names and frame steps shared by both files, or raise NotComparable."""
+    names_a = [str(n) for n in fa[f"{BODIES}/name"].asstr()[()]]
+    names_b = [str(n) for n in fb[f"{BODIES}/name"].asstr()[()]]
+    if names_a != names_b:
+        if len(names_a) != len(names_b):
+            detail = f"A has {len(names_a)} bodies, B has {len(names_b)}"
+        else:
+            i = next(i for i, (x, y) in enumerate(zip(names_a, names_b, strict=True)) if x != y)
+            detail = f"body {i} is {names_a[i]!r} in A and {names_b[i]!r} in B"
+        raise NotComparable(f"not comparable: different bodies ({detail})")
+    dt_a, dt_b = fa["parameters"].attrs.get("dt"), fb["parameters"].attrs.get("dt")
+    if dt_a != dt_b:
+        raise NotComparable(f"not comparable: different time steps (dt {dt_a} in A, {dt_b} in B)")
+    steps_a = fa[f"{BODIES}/position/step"][()]
+    steps_b = fb[f"{BODIES}/position/step"][()]
+    if not np.array_equal(steps_a, steps_b):
+        raise NotComparable(
+            "not comparable: different frames "
+            f"(A has {len(steps_a)} frames, ticks {_span(steps_a)}; "
+            f"B has {len(steps_b)} frames, ticks {_span(steps_b)})"
+        )
+    return names_a, steps_a
+
+
+def _span(steps: np.ndarray) -> str:
+    if len(steps) < 2:
+        return ", ".join(str(int(s)) for s in steps) or "none"
+    return f"{int(steps[0])}..{int(steps[-1])} every {int(steps[1] - steps[0])}"
+
+
+def _datasets(fa: h5py.File, fb: h5py.File) -> Iterator[tuple[str, tuple[h5py.Dataset, h5py.Dataset, bool]]]:
+    """The datasets compared: body state first, then every observable present in both files."""
+    for name, (path, wrap) in STATE.items():
+        yield name, (fa[path], fb[path], wrap)
+    shared = sorted(set(fa.get("observables", {})) & set(fb.get("observables", {})))
+    for name in shared:
+        da, db = fa[f"observables/{name}/value"], fb[f"observables/{name}/value"]
+        if da.shape != db.shape:
+            raise NotComparable(
+                f"not comparable: observable {name} has shape {da.shape} in A and {db.shape} in B"
+            )
+        yield name, (da, db, False)
+
+
+def _block_frames(datasets: dict[str, tuple[h5py.Dataset, h5py.Dataset, bool]], frames: int) -> int:
+    """Frames per block: bounded memory, and a whole number of chunks when the file is chunked."""
+    values_per_frame = max(int(np.prod(da.shape[1:])) for da, _, _ in datasets.values())
+    block = max(1, BLOCK_VALUES // max(1, values_per_frame))
+    chunk = datasets["position"][0].chunks
+    if chunk and chunk[0] < block:
+        block -= block % chunk[0]
+    return min(block, max(frames, 1))
+
+
+def _raw(x: np.ndarray) -> np.ndarray:
+    """The array's bytes, so that NaNs and signed zeros compare by their bit patterns."""
+    return np.ascontiguousarray(x).view(np.uint8)
+
+
+def _errors(
+    xa: np.ndarray, xb: np.ndarray, atol: float, rtol: float, wrap: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """Absolute errors and the mask of values outside tolerance, for one block."""
+    if xa.dtype == bool or xb.dtype == bool:
+        # a body active in one run and not in the other is a difference whatever the tolerance
+        differ = xa != xb
+        return differ.astype(np.float64), differ
+    with np.errstate(invalid="ignore", over="ignore"):
+        diff = xa.astype(np.float64) - xb
+        if wrap:
+            diff = np.remainder(diff + np.pi, 2 * np.pi) - np.pi
+        error = np.abs(diff)
+        same = (xa == xb) | (np.isnan(xa) & np.isnan(xb))
+        error[same] = 0.0
+        error[np.isnan(error)] = np.inf  # one run finite, the other not
+        outside = ~(error <= atol + rtol * np.abs(xb))
+    outside &= ~same
+    return error, outside
+
+
+def print_comparison(comparison: Comparison) -> None:
+    """The human report on stdout: one line of verdict, then a table of errors when the files differ."""
+    from rich.console import Console
+    from rich.table import Table
+
+    console = Console(highlight=False)
+    tolerance = f"atol={comparison.atol:g}, rtol={comparison.rtol:g}"
+    console.print(
+        f"{comparison.a} vs {comparison.b}: {comparison.frames} frames, "
+        f"{len(comparison.body_names)} bodies, tolerance {tolerance}"
+    )
+    for side, names in (("A", comparison.only_in_a), ("B", comparison.only_in_b)):
+        if names:
+            console.print(f"only in {side} (not compared): {', '.join(names)}")
+    if comparison.identical:
+        console.print("[bold green]identical[/] (bitwise)")
+        return
+    table = Table()
+    for column in ("quantity", "max error", "mean error", "outside tol.", "first tick", "worst bodies"):
+        table.add_column(column, justify="left" if column in ("quantity", "worst bodies") else "right")
+    for q in comparison.quantities:
+        worst_bodies = q.worst_bodies(comparison.body_names)
+        worst = ", ".join(f"{b['name']} ({b['max_error']:.3g})" for b in worst_bodies)
+        style = "red" if q.outside else None
+        first = "" if q.first_tick is None else str(q.first_tick)
+        table.add_row(
+            q.name, f"{q.max_error:.3g}", f"{q.mean_error:.3g}", str(q.outside), first, worst, style=style
+        )
+    console.print(table)
+    if comparison.within_tolerance:
+        console.print("[bold green]within tolerance[/]")
+    else:
+        beyond = [q for q in comparison.quantities if q.outside]
+        first = min(q.first_tick for q in beyond if q.first_tick is not None)
+        console.print(
+            f"[bold red]different[/]: {', '.join(q.name for q in beyond)} beyond tolerance, "
+            f"first at tick {first}"
+        )
