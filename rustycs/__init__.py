@@ -1,0 +1,14 @@
+"""rustycs: a deterministic 2D rigid-body physics engine on a numba core.
+
+The engine does no I/O: build a World, step it, read its arrays. See API.md.
+"""
+
+from rustycs.kernel_cache import compile_needed
+from rustycs.materials import MATERIALS, Material
+from rustycs.shapes import Box, Circle, Polygon
+from rustycs.world import SimulationDiverged, World
+
+__version__ = "0.1.0"
+
+__all__ = ["World", "Circle", "Box", "Polygon", "Material", "MATERIALS", "SimulationDiverged",
+           "compile_needed", "__version__"]

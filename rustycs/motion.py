@@ -1,0 +1,87 @@
+"""Forces, attractors and semi-implicit Euler integration of the bodies."""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+STATIC, DYNAMIC, KINEMATIC = 0, 1, 2
+BODY_TYPE_NAMES = ("static", "dynamic", "kinematic")
+
+
+@njit(cache=True)
+def attraction(px, py, att_pos, att_gm, att_range, att_min_distance):
+    """Acceleration towards the attractors: G*M / max(d, min_distance)^2, whatever the body's mass;
+    a local attractor acts only within its range."""
+    ax = 0.0
+    ay = 0.0
+    for k in range(att_gm.shape[0]):
+        dx = att_pos[k, 0] - px
+        dy = att_pos[k, 1] - py
+        d = math.sqrt(dx * dx + dy * dy)
+        if d > att_range[k] or d == 0.0:
+            continue
+        dc = max(d, att_min_distance[k])
+        g = att_gm[k] / (dc * dc * d)
+        ax += g * dx
+        ay += g * dy
+    return ax, ay
+
+
+@njit(cache=True)
+def integrate_velocities(v, x, body_type, active, gravity, att_pos, att_gm, att_range, att_min_distance, h):
+    for i in range(v.shape[0]):
+        if body_type[i] != DYNAMIC or not active[i]:
+            continue
+        ax, ay = attraction(x[i, 0], x[i, 1], att_pos, att_gm, att_range, att_min_distance)
+        v[i, 0] += h * (gravity[0] + ax)
+        v[i, 1] += h * (gravity[1] + ay)
+
+
+@njit(cache=True)
+def integrate_positions(x, angle, v, w, body_type, active, delta_x, delta_angle, rot, h):
+    """Move bodies and keep their displacement since the narrow phase (for the contact solver)."""
+    for i in range(x.shape[0]):
+        if body_type[i] == 0 or not active[i]:
+            continue
+        dx = h * v[i, 0]
+        dy = h * v[i, 1]
+        x[i, 0] += dx
+        x[i, 1] += dy
+        delta_x[i, 0] += dx
+        delta_x[i, 1] += dy
+        if w[i] != 0.0:
+            da = h * w[i]
+            angle[i] += da
+            delta_angle[i] += da
+            rot[i, 0] = math.cos(delta_angle[i])
+            rot[i, 1] = math.sin(delta_angle[i])
+
+
+@njit(cache=True)
+def first_non_finite(x, angle, v, w, body_type, active):
+    """Index of the first moving body with a non-finite state, or -1."""
+    for i in range(x.shape[0]):
+        if body_type[i] == STATIC or not active[i]:
+            continue
+        total = x[i, 0] + x[i, 1] + angle[i] + v[i, 0] + v[i, 1] + w[i]
+        if not math.isfinite(total):
+            return i
+    return -1
+
+
+@njit(cache=True)
+def apply_bounds(x, v, w, body_type, active, bounds):
+    """Deactivate dynamic bodies whose centre left the bounds; return how many left this tick."""
+    left = 0
+    for i in range(x.shape[0]):
+        if body_type[i] != DYNAMIC or not active[i]:
+            continue
+        if x[i, 0] < bounds[0] or x[i, 1] < bounds[1] or x[i, 0] > bounds[2] or x[i, 1] > bounds[3]:
+            active[i] = False
+            v[i, 0] = 0.0
+            v[i, 1] = 0.0
+            w[i] = 0.0
+            left += 1
+    return left
