@@ -1,21 +1,42 @@
-"""HDF5 trajectory files: opening one for reading (this part) and writing a run (below).
+"""HDF5 trajectory files (H5MD 1.1, dimension 2): writing a run frame by frame, and reading one back.
 
-The layout is the one of /work/shared/spec/trajectory-format.md (H5MD 1.1, dimension 2).
+The layout is the spec's (trajectory-format.md). Additions beyond it, for the renderer and analysis:
+
+    /particles/bodies/radius          float64 [N]       circle radius (0 for polygons and boxes)
+    /particles/bodies/vertex_count    int32 [N]         0 for circles, 4 for boxes, 3..8 for polygons
+    /particles/bodies/vertices        float64 [N, 8, 2] unrotated vertices about the BODY ORIGIN,
+                                                        counter-clockwise; rows past vertex_count are 0
+    /particles/bodies/collision_group int32 [N]         same non-zero group: never collide
+    /world/attractors/name            str [A]
+    /world/attractors/position        float64 [A, 2]
+    /world/attractors/mass, range, min_distance  float64 [A]  (range inf for a global attractor)
+    /world/bounds                     float64 [2, 2]    [[xmin, ymin], [xmax, ymax]], only when set
+    /observables/*/step, time         hard links to /particles/bodies/position/step and time
+    /parameters                       extra attrs: ticks_requested, every, contacts, gravitational_constant,
+                                      frames, and `divergence` (the engine's message) when diverged
+
+Frames are buffered in memory a block at a time and appended to resizable datasets chunked along time,
+so memory stays bounded whatever the run length. The file is written as `.NAME.tmp-PID` in the output
+folder and renamed when finished, so a half-written file never carries the final name.
 """
 
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from rustycs_cli.errors import UserError
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # imported lazily at run time, so that `rustycs --help` stays fast
     import h5py
+    import numpy as np
 
 CREATOR = "rustycs"
 POSITION = "particles/bodies/position/value"
+HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
+HDF5_SUFFIXES = (".h5", ".hdf5", ".he5")
 
 
 def open_trajectory(path: str | Path) -> h5py.File:
@@ -51,8 +72,17 @@ def open_trajectory(path: str | Path) -> h5py.File:
 
 def _has_hdf5_signature(path: Path) -> bool:
     """True when the file starts like HDF5 (so an open failure means corruption, not a foreign format)."""
-    with open(path, "rb") as handle:
-        return handle.read(8) == b"\x89HDF\r\n\x1a\n"
+    try:
+        with open(path, "rb") as handle:
+            return handle.read(8) == HDF5_SIGNATURE
+    except OSError:
+        return False
+
+
+def looks_like_trajectory(path: str | Path) -> bool:
+    """True for a path meant as a trajectory (an .h5/.hdf5 name or HDF5 content) rather than a scene."""
+    path = Path(path)
+    return path.suffix.lower() in HDF5_SUFFIXES or (path.is_file() and _has_hdf5_signature(path))
 
 
 def _foreign_reason(file: h5py.File) -> str | None:
@@ -73,3 +103,339 @@ def _text(value: object) -> str | None:
     if isinstance(value, bytes):
         return value.decode("utf-8", "replace")
     return None if value is None else str(value)
+
+
+FRAME_SERIES = {  # name: (per-body row shape, dtype, unit); value [T, N, *shape]
+    "position": ((2,), "f8", "m"),
+    "velocity": ((2,), "f8", "m s-1"),
+    "angle": ((), "f8", "rad"),
+    "angular_velocity": ((), "f8", "rad s-1"),
+    "active": ((), "bool", None),
+}
+OBSERVABLES = {  # name: (shape, dtype, unit); value [T, *shape]
+    "kinetic_energy": ((), "f8", "J"),
+    "potential_energy": ((), "f8", "J"),
+    "linear_momentum": ((2,), "f8", "kg m s-1"),
+    "angular_momentum": ((), "f8", "kg m2 s-1"),
+    "contact_count": ((), "i8", None),
+    "max_penetration": ((), "f8", "m"),
+}
+CONTACT_FIELDS = {  # name: (row shape, dtype, unit); [C, *shape]
+    "body_a": ((), "i4", None),
+    "body_b": ((), "i4", None),
+    "point": ((2,), "f8", "m"),
+    "normal": ((2,), "f8", None),
+    "depth": ((), "f8", "m"),
+    "normal_impulse": ((), "f8", "N s"),
+}
+BLOCK_FRAMES = 64  # frames held in memory before they are appended to the file
+CHUNK_FRAMES = 32  # frames per chunk, fewer when one frame of a dataset is large
+CHUNK_BYTES = 1 << 20  # so that a chunk fits h5py's default chunk cache
+CONTACT_CHUNK_ROWS = 4096
+
+
+@dataclass(frozen=True)
+class Frame:
+    """One recorded state of the world: what the file stores and what the summary is computed from."""
+
+    tick: int
+    position: np.ndarray
+    velocity: np.ndarray
+    angle: np.ndarray
+    angular_velocity: np.ndarray
+    active: np.ndarray
+    observables: dict[str, Any]
+    contacts: dict[str, np.ndarray] | None
+
+    @classmethod
+    def capture(cls, world: Any, contacts: bool) -> Frame:
+        """Copy the world's current state (and its last tick's contacts when `contacts`)."""
+        return cls(
+            tick=int(world.tick),
+            position=world.positions,
+            velocity=world.velocities,
+            angle=world.angles,
+            angular_velocity=world.angular_velocities,
+            active=world.active,
+            observables=world.observables(),
+            contacts=world.contacts() if contacts else None,
+        )
+
+
+def temporary_path(path: Path) -> Path:
+    """Where an output is written before its atomic rename: hidden, same folder, unique per process."""
+    return path.with_name(f".{path.name}.tmp-{os.getpid()}")
+
+
+def check_output_path(path: Path) -> None:
+    """Fail early (before simulating) when `path` cannot be written: missing or read-only folder.
+
+    A folder without any write permission bit counts as read-only even for root, who could write it.
+    """
+    folder = path.parent
+    if path.is_dir():
+        raise UserError(f"{path}: is a folder; give a file name such as {path / 'run.h5'}")
+    if not folder.is_dir():
+        raise UserError(f"{path}: output folder {folder} does not exist")
+    if not os.access(folder, os.W_OK | os.X_OK) or not folder.stat().st_mode & 0o222:
+        raise UserError(f"{path}: output folder {folder} is not writable")
+
+
+class _Growing:
+    """A dataset growing along its first axis; rows wait in memory until `flush`."""
+
+    def __init__(self, group: h5py.Group, name: str, row_shape: tuple[int, ...], dtype: str,
+                 chunk_rows: int, options: dict[str, Any], unit: str | None = None):
+        self.dataset = group.create_dataset(
+            name,
+            shape=(0, *row_shape),
+            maxshape=(None, *(size or None for size in row_shape)),
+            chunks=(chunk_rows, *(max(size, 1) for size in row_shape)),
+            dtype=dtype,
+            **options,
+        )
+        if unit:
+            self.dataset.attrs["unit"] = unit
+        self.pending: list[np.ndarray] = []
+
+    def append(self, rows: np.ndarray) -> None:
+        self.pending.append(rows)
+
+    def flush(self) -> None:
+        import numpy as np
+
+        if not self.pending:
+            return
+        rows = np.concatenate(self.pending)
+        start = self.dataset.shape[0]
+        self.dataset.resize(start + len(rows), axis=0)
+        self.dataset[start:] = rows
+        self.pending.clear()
+
+
+def _chunk_frames(frame_bytes: int) -> int:
+    """Frames per chunk: a few dozen, fewer for large worlds so that a chunk stays about 1 MiB."""
+    return max(1, min(CHUNK_FRAMES, CHUNK_BYTES // max(frame_bytes, 1)))
+
+
+class TrajectoryWriter:
+    """Writes one run: the static description when created, then `append(frame)` per recorded frame,
+    then `finish` (flush, parameters, summary, rename) or `discard` (remove the temporary file).
+
+    Use it as a context manager: an exception escaping the block discards the file.
+    """
+
+    def __init__(self, path: Path, world: Any, *, names: list[str], materials: list[str],
+                 collision_groups: list[int], attractor_names: list[str], author: str,
+                 scene_text: str, overrides: tuple[str, ...], contacts: bool, compress: bool):
+        import h5py
+
+        self.path = Path(path)
+        self.temporary = temporary_path(self.path)
+        self.dt = float(world.dt)
+        self.frames = 0
+        self._file = h5py.File(self.temporary, "w")
+        try:
+            self._write_static(world, names, materials, collision_groups, attractor_names, author,
+                               scene_text, overrides)
+            self._create_series(world.body_count, contacts,
+                                {"compression": "gzip", "shuffle": True} if compress else {})
+        except BaseException:
+            self.discard()
+            raise
+
+    def __enter__(self) -> TrajectoryWriter:
+        return self
+
+    def __exit__(self, kind: type[BaseException] | None, *_: object) -> None:
+        if kind is not None:
+            self.discard()
+
+    def _write_static(self, world: Any, names: list[str], materials: list[str],
+                      collision_groups: list[int], attractor_names: list[str], author: str,
+                      scene_text: str, overrides: tuple[str, ...]) -> None:
+        import h5py
+        import numpy as np
+
+        text = h5py.string_dtype()
+        file = self._file
+        h5md = file.create_group("h5md")
+        h5md.attrs["version"] = np.array([1, 1], dtype="i4")
+        h5md.create_group("creator").attrs.update({"name": CREATOR, "version": package_version()})
+        h5md.create_group("author").attrs["name"] = author
+        bodies = file.create_group("particles/bodies")
+        box = bodies.create_group("box")
+        box.attrs["dimension"] = np.int32(2)
+        box.attrs.create("boundary", np.array(["none", "none"], dtype=object), dtype=text)
+        for key, values in (("name", names), ("type", list(world.body_types)),
+                            ("shape", list(world.shape_kinds)), ("material", materials)):
+            bodies.create_dataset(key, data=np.array([str(v) for v in values], dtype=object), dtype=text)
+        bodies.create_dataset("mass", data=np.asarray(world.masses, "f8")).attrs["unit"] = "kg"
+        bodies.create_dataset("inertia", data=np.asarray(world.inertias, "f8")).attrs["unit"] = "kg m2"
+        bodies.create_dataset("radius", data=np.asarray(world.radii, "f8")).attrs["unit"] = "m"
+        bodies.create_dataset("vertex_count", data=np.asarray(world.vertex_counts, "i4"))
+        vertices = np.asarray(world.local_vertices, "f8").reshape(world.body_count, 8, 2)
+        bodies.create_dataset("vertices", data=vertices).attrs["unit"] = "m"
+        bodies.create_dataset("collision_group", data=np.asarray(collision_groups, "i4"))
+
+        attractors = file.create_group("world/attractors")
+        found = list(world.attractors)
+        attractors.create_dataset("name", data=np.array(attractor_names, dtype=object), dtype=text)
+        attractors.create_dataset(
+            "position", data=np.array([a["position"] for a in found], "f8").reshape(len(found), 2))
+        for key in ("mass", "range", "min_distance"):
+            attractors.create_dataset(key, data=np.array([a[key] for a in found], "f8"))
+        if world.bounds is not None:
+            file["world"].create_dataset("bounds", data=np.array(world.bounds, "f8")).attrs["unit"] = "m"
+
+        parameters = file.create_group("parameters", track_order=True)
+        parameters.create_dataset("scene", data=scene_text, dtype=text)
+        parameters.create_dataset("overrides", data=np.array(list(overrides), dtype=object), dtype=text)
+
+    def _create_series(self, body_count: int, contacts: bool, options: dict[str, Any]) -> None:
+        import numpy as np
+
+        file = self._file
+        position = file.create_group("particles/bodies/position")
+        chunk = _chunk_frames(body_count * 16)
+        self._step = _Growing(position, "step", (), "i8", CHUNK_FRAMES * 4, options)
+        self._time = _Growing(position, "time", (), "f8", CHUNK_FRAMES * 4, options, "s")
+        self._series: dict[str, _Growing] = {}
+        for name, (shape, dtype, unit) in FRAME_SERIES.items():
+            group = position if name == "position" else file.create_group(f"particles/bodies/{name}")
+            if name != "position":
+                group["step"], group["time"] = self._step.dataset, self._time.dataset
+            self._series[name] = _Growing(group, "value", (body_count, *shape), dtype, chunk, options, unit)
+        self._observables: dict[str, _Growing] = {}
+        for name, (shape, dtype, unit) in OBSERVABLES.items():
+            group = file.create_group(f"observables/{name}")
+            group["step"], group["time"] = self._step.dataset, self._time.dataset
+            self._observables[name] = _Growing(group, "value", shape, dtype, CHUNK_FRAMES * 4, options, unit)
+        self._contacts: dict[str, _Growing] | None = None
+        if contacts:
+            group = file.create_group("contacts")
+            self._offset = _Growing(group, "offset", (), "i8", CHUNK_FRAMES * 4, options)
+            self._offset.append(np.zeros(1, "i8"))
+            self._contact_rows = 0
+            self._contacts = {
+                name: _Growing(group, name, shape, dtype, CONTACT_CHUNK_ROWS, options, unit)
+                for name, (shape, dtype, unit) in CONTACT_FIELDS.items()
+            }
+
+    def append(self, frame: Frame) -> None:
+        """Record one frame; every BLOCK_FRAMES frames the buffered block is written to the file."""
+        import numpy as np
+
+        self._step.append(np.array([frame.tick], "i8"))
+        self._time.append(np.array([frame.tick * self.dt], "f8"))
+        for name, series in self._series.items():
+            series.append(np.asarray(getattr(frame, name))[None])
+        for name, series in self._observables.items():
+            series.append(np.asarray(frame.observables[name])[None])
+        if self._contacts is not None:
+            if frame.contacts is None:
+                raise ValueError("this trajectory records contacts: capture frames with contacts=True")
+            for name, series in self._contacts.items():
+                series.append(np.asarray(frame.contacts[name]))
+            self._contact_rows += len(frame.contacts["body_a"])
+            self._offset.append(np.array([self._contact_rows], "i8"))
+        self.frames += 1
+        if self.frames % BLOCK_FRAMES == 0:
+            self._flush()
+
+    def _flush(self) -> None:
+        for series in self._all_series():
+            series.flush()
+        self._file.flush()
+
+    def _all_series(self) -> list[_Growing]:
+        found = [self._step, self._time, *self._series.values(), *self._observables.values()]
+        if self._contacts is not None:
+            found += [self._offset, *self._contacts.values()]
+        return found
+
+    def finish(self, parameters: dict[str, Any], summary: dict[str, Any]) -> Path:
+        """Write the remaining frames, /parameters and /parameters/summary attrs; rename; return the path.
+
+        None values are left out (HDF5 attributes have no null).
+        """
+        try:
+            self._flush()
+            group = self._file["parameters"]
+            group.attrs.update({k: v for k, v in parameters.items() if v is not None})
+            statistics = group.create_group("summary", track_order=True)
+            statistics.attrs.update({k: v for k, v in summary.items() if v is not None})
+            self._file.close()
+            os.replace(self.temporary, self.path)
+        except BaseException:
+            self.discard()
+            raise
+        return self.path
+
+    def discard(self) -> None:
+        """Close and delete the temporary file (nothing is left under the final name)."""
+        if self._file.id.valid:
+            self._file.close()
+        self.temporary.unlink(missing_ok=True)
+
+
+def package_version() -> str:
+    """The installed rustycs version (stored in every file so a run can be traced to its code)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("rustycs")
+    except PackageNotFoundError:
+        return "unknown"
+
+
+def read_strings(dataset: h5py.Dataset) -> list[str]:
+    """A variable-length string dataset as a list of str."""
+    return [str(value) for value in dataset.asstr()[()]]
+
+
+def read_attrs(group: h5py.Group | h5py.Dataset) -> dict[str, Any]:
+    """An HDF5 object's attributes as plain Python values (str, int, float, bool, lists)."""
+    result = {}
+    for key, value in group.attrs.items():
+        if hasattr(value, "tolist"):
+            value = value.tolist()
+        result[key] = _text(value) if isinstance(value, bytes) else value
+    return result
+
+
+def read_scene(file: h5py.File) -> tuple[str, list[str]]:
+    """The stored resolved scene text and the overrides it was made with (a record; already applied)."""
+    parameters = file["parameters"]
+    return parameters["scene"].asstr()[()], read_strings(parameters["overrides"])
+
+
+def describe(path: str | Path) -> dict[str, Any]:
+    """What a trajectory holds (for `rustycs info`): run parameters, body counts by type and shape,
+    and the summary. Raises UserError for files that are not readable rustycs trajectories."""
+    from collections import Counter
+
+    with open_trajectory(path) as file:
+        try:
+            parameters = read_attrs(file["parameters"])
+            bodies = file["particles/bodies"]
+            types, shapes = read_strings(bodies["type"]), read_strings(bodies["shape"])
+            summary = read_attrs(file["parameters/summary"])
+            return {
+                "file": str(path),
+                "scene": summary.get("scene"),
+                "status": parameters.get("status"),
+                "ticks_completed": parameters.get("ticks_completed"),
+                "frames": int(file[POSITION].shape[0]),
+                "dt": parameters.get("dt"),
+                **{key: parameters.get(key) for key in
+                   ("tick_rate", "precision", "seed", "scene_sha256", "rustycs_version", "every")},
+                "overrides": read_strings(file["parameters/overrides"]),
+                "contacts_recorded": "contacts" in file,
+                "bodies": {"total": len(types), "by_type": dict(Counter(types)),
+                           "by_shape": dict(Counter(shapes))},
+                "attractors": len(file["world/attractors/name"]) if "world/attractors/name" in file else 0,
+                "summary": summary,
+            }
+        except (KeyError, OSError, ValueError) as err:
+            raise UserError(f"{path}: damaged rustycs trajectory ({err})") from None

@@ -1,8 +1,43 @@
-"""`rustycs info` (not yet implemented)."""
+"""`rustycs info`: what a trajectory holds."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
 
 NAME = "info"
 
 
-def command() -> None:
-    """Not yet implemented."""
-    raise NotImplementedError
+def command(
+    run: Path = typer.Argument(..., help="Trajectory file written by `rustycs run`."),
+    json: bool = typer.Option(False, "--json", help="Print everything as JSON on stdout."),
+) -> None:
+    """Show a trajectory's scene, status, ticks, bodies (by type and shape) and summary.
+
+    Example: rustycs info outputs/material-bounce.h5 --json
+    """
+    from rustycs_cli.summary import summary_table, to_json
+    from rustycs_cli.trajectory import describe
+
+    details = describe(run)
+    if json:
+        print(to_json(details))
+        return
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table(title=str(run), show_header=False, title_justify="left")
+    table.add_column("key", style="bold")
+    table.add_column("value")
+    for key, value in details.items():
+        if key == "bodies":
+            value = (f"{value['total']}: " + ", ".join(f"{n} {k}" for k, n in value["by_type"].items())
+                     + "; " + ", ".join(f"{n} {k}" for k, n in value["by_shape"].items()))
+        elif key == "overrides":
+            value = " ".join(value) or "none"
+        if key not in ("file", "summary"):
+            table.add_row(key, str(value))
+    console = Console()
+    console.print(table)
+    console.print(summary_table(details["summary"], "summary"))

@@ -1,0 +1,184 @@
+"""Running a scene: build the world, step it in blocks, record frames and the summary.
+
+A run always ends with a valid trajectory: Ctrl-C or SIGTERM stops it after the current block
+(status `interrupted`), a non-finite state stops it at the last recorded finite frame (status
+`diverged`); both keep the frames so far. Shared by `rustycs run` and `rustycs sweep`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import signal
+import sys
+import threading
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from rustycs_cli.loading import LoadedScene
+
+EXIT_CODES = {"complete": 0, "diverged": 1, "interrupted": 130}
+COMPILE_SECONDS = 30  # rough first-compilation time of the engine, for the notice
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """What a run produced: the trajectory, its summary sidecar, the statistics and how it ended."""
+
+    path: Path
+    sidecar: Path
+    summary: dict[str, Any]
+    status: str  # complete | interrupted | diverged
+    exit_code: int  # 0 | 130 | 1
+    message: str | None  # why a run did not complete, for stderr
+
+
+def load_source(path: str | Path, overrides: tuple[str, ...] = (), seed: int | None = None) -> LoadedScene:
+    """Load a scene file, or the scene stored in a trajectory (to repeat that run).
+
+    A stored scene already has its original overrides applied; they are kept in front of the new ones
+    in `overrides`, as the record of how the scene was made.
+    """
+    from rustycs_cli.loading import load_scene, load_scene_text
+    from rustycs_cli.trajectory import looks_like_trajectory, open_trajectory, read_scene
+
+    if not looks_like_trajectory(path):
+        return load_scene(path, overrides, seed)
+    with open_trajectory(path) as file:
+        text, stored = read_scene(file)
+    loaded = load_scene_text(text, f"{path}:/parameters/scene", overrides, seed)
+    return dataclasses.replace(loaded, overrides=(*stored, *loaded.overrides))
+
+
+def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: int | None = None,
+              contacts: bool | None = None, progress: bool = False, *, compress: bool = False,
+              quiet: bool = False, started: float | None = None) -> RunResult:
+    """Simulate `loaded` and write the trajectory to `out` and the summary next to it.
+
+    ticks, every and contacts default to the scene's; `progress` shows a bar on stderr; `quiet`
+    silences the one-line compilation notice; `started` (time.perf_counter) is when the command
+    began, for the summary's wall time.
+    """
+    from rustycs_cli.build import build_world, material_names
+    from rustycs_cli.summary import SummaryTracker, sidecar_path, to_json, write_text_atomic
+    from rustycs_cli.trajectory import Frame, TrajectoryWriter, check_output_path, package_version
+
+    import rustycs
+
+    started = time.perf_counter() if started is None else started
+    scene = loaded.scene
+    ticks = scene.world.ticks if ticks is None else ticks
+    every = scene.output.every if every is None else every
+    contacts = scene.output.contacts if contacts is None else contacts
+    check_output_path(out)
+    with _stop_requests() as stop_requested:
+        world = build_world(scene)
+        if rustycs.compile_needed() and not quiet:
+            print(f"rustycs: compiling the engine (happens once, ~{COMPILE_SECONDS} s)...", file=sys.stderr)
+        _warm_up(rustycs)
+        names = [body.name for body in scene.bodies]
+        tracker = SummaryTracker(list(world.body_types))
+        writer = TrajectoryWriter(
+            out, world, names=names, materials=material_names(scene),
+            collision_groups=[body.collision_group for body in scene.bodies],
+            attractor_names=[attractor.name for attractor in scene.attractors],
+            author=scene.author or "unknown", scene_text=loaded.text, overrides=loaded.overrides,
+            contacts=contacts, compress=compress)
+        with writer, _progress_bar(progress, ticks, scene.name) as advance:
+
+            def record() -> None:
+                frame = Frame.capture(world, contacts)
+                writer.append(frame)
+                tracker.add(frame)
+
+            record()
+            status, message, step_seconds = "complete", None, 0.0
+            while world.tick < ticks:
+                if stop_requested():
+                    status = "interrupted"
+                    message = f"rustycs: interrupted at tick {world.tick}; the frames so far are in {out}"
+                    break
+                count = min(every, ticks - world.tick)
+                begin = time.perf_counter()
+                try:
+                    world.step(count)
+                except rustycs.SimulationDiverged as err:
+                    status = "diverged"
+                    message = _divergence_message(err, names, tracker.last.tick if tracker.last else 0, out)
+                    break
+                finally:
+                    step_seconds += time.perf_counter() - begin
+                record()
+                advance(count)
+            summary = tracker.summary(
+                scene=scene.name, scene_sha256=loaded.sha256, status=status, seed=scene.seed, dt=world.dt,
+                wall_seconds=time.perf_counter() - started, step_seconds=step_seconds,
+                divergence=message if status == "diverged" else None)
+            parameters = {
+                "scene_sha256": loaded.sha256, "seed": scene.seed, "rustycs_version": package_version(),
+                "status": status, "ticks_completed": summary["ticks"], "dt": world.dt,
+                "tick_rate": scene.world.tick_rate, "precision": scene.world.precision,
+                "wall_seconds": summary["wall_seconds"], "step_seconds": step_seconds,
+                "ticks_requested": ticks, "every": every, "contacts": contacts,
+                "gravitational_constant": scene.world.gravitational_constant, "frames": summary["frames"],
+                "divergence": summary["divergence"],
+            }
+            writer.finish(parameters, summary)
+    sidecar = sidecar_path(out)
+    write_text_atomic(sidecar, to_json(summary) + "\n")
+    return RunResult(out, sidecar, summary, status, EXIT_CODES[status], message)
+
+
+def _divergence_message(err: Exception, names: list[str], last_tick: int, out: Path) -> str:
+    """Which tick and body went non-finite, and what was kept."""
+    tick, body = getattr(err, "tick", "?"), getattr(err, "body", None)
+    known = isinstance(body, int) and 0 <= body < len(names)
+    who = f"body {names[body]!r} (index {body})" if known else "a body"
+    return (f"rustycs: the run diverged at tick {tick}: {who} got a non-finite state ({err}); "
+            f"frames up to tick {last_tick} are kept in {out}")
+
+
+def _warm_up(rustycs: Any) -> None:
+    """Step a two-body world once, so compiling or loading the cached kernels is not timed as stepping."""
+    world = rustycs.World()
+    world.add_body(rustycs.Circle(radius=0.5), position=(0.0, 0.4))
+    world.add_body(rustycs.Box(1.0, 1.0), position=(0.0, -0.5), body_type="static")
+    world.step(1)
+
+
+@contextmanager
+def _stop_requests() -> Iterator[Callable[[], bool]]:
+    """While active, SIGINT and SIGTERM only set a flag (yields a function reading it), so the loop can
+    finish its block and close the file. Outside the main thread (where signals cannot be caught) the
+    flag never rises."""
+    requested: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield lambda: False
+        return
+    previous = {sig: signal.signal(sig, lambda signum, _frame: requested.append(signum))
+                for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield lambda: bool(requested)
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+@contextmanager
+def _progress_bar(enabled: bool, total: int, label: str) -> Iterator[Callable[[int], None]]:
+    """A transient rich progress bar on stderr; yields `advance(ticks)` (a no-op when disabled)."""
+    if not enabled:
+        yield lambda _ticks: None
+        return
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TextColumn("ticks"),
+               TimeRemainingColumn())
+    with Progress(*columns, console=Console(stderr=True), transient=True) as bar:
+        task = bar.add_task(label, total=total)
+        yield lambda ticks: bar.advance(task, ticks)

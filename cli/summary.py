@@ -1,0 +1,177 @@
+"""Summary statistics of a run, computed from its recorded frames, and their outputs (JSON sidecar, table).
+
+The statistics are those a batch user compares across a sweep (trajectory-format.md, "Summary
+statistics"). Per-tick quantities (contacts, penetration, speed) are taken over the recorded frames,
+so with `output.every` > 1 they are sampled every `every` ticks. "Final" values are those of the last
+recorded frame, which after a divergence is the last finite one.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from rich.table import Table
+    from rustycs_cli.trajectory import Frame
+
+REST_SPEED = 1e-3  # m/s: a dynamic body slower than this (and REST_ANGULAR_SPEED) is at rest
+REST_ANGULAR_SPEED = 1e-3  # rad/s
+
+DESCRIPTIONS = {  # key: meaning, in output order (documents every statistic)
+    "scene": "scene name",
+    "scene_sha256": "SHA-256 of the resolved scene text",
+    "status": "complete | interrupted | diverged",
+    "seed": "seed of the generators",
+    "ticks": "ticks completed",
+    "frames": "frames recorded (tick 0 included)",
+    "simulated_seconds": "simulated time, s",
+    "bodies": "bodies (static included)",
+    "dynamic_bodies": "dynamic bodies",
+    "wall_seconds": "wall time of the whole command, s",
+    "step_seconds": "time spent stepping alone, s",
+    "ticks_per_second": "ticks / step_seconds",
+    "initial_kinetic_energy": "kinetic energy at tick 0, J",
+    "final_kinetic_energy": "kinetic energy at the last frame, J",
+    "initial_potential_energy": "potential energy at tick 0, J",
+    "final_potential_energy": "potential energy at the last frame, J",
+    "energy_drift": "final - initial total energy, J",
+    "relative_energy_drift": "energy_drift / |initial total energy|",
+    "linear_momentum_drift": "|final - initial linear momentum|, kg m/s",
+    "angular_momentum_drift": "|final - initial angular momentum|, kg m^2/s",
+    "max_penetration": "deepest overlap over the run, m",
+    "total_contact_points": "contact points summed over the recorded frames",
+    "peak_contact_points": "most contact points in one frame",
+    "max_speed": "highest speed of an active dynamic body, m/s",
+    "escaped_bodies": "dynamic bodies that left the world bounds",
+    "bodies_at_rest": "active dynamic bodies at rest at the end",
+    "divergence": "where a non-finite value appeared (diverged runs)",
+}
+
+
+class SummaryTracker:
+    """Accumulates the statistics frame by frame, so a run never has to be read back to summarise it."""
+
+    def __init__(self, body_types: list[str]):
+        import numpy as np
+
+        self.body_types = [str(kind) for kind in body_types]
+        self.dynamic = np.array([kind == "dynamic" for kind in self.body_types], dtype=bool)
+        self.first: Frame | None = None
+        self.last: Frame | None = None
+        self.frames = 0
+        self.max_penetration = 0.0
+        self.total_contacts = 0
+        self.peak_contacts = 0
+        self.max_speed = 0.0
+
+    def add(self, frame: Frame) -> None:
+        """Account for one recorded frame."""
+        import numpy as np
+
+        if self.first is None:
+            self.first = frame
+        self.last = frame
+        self.frames += 1
+        observables = frame.observables
+        self.max_penetration = max(self.max_penetration, float(observables["max_penetration"]))
+        count = int(observables["contact_count"])
+        self.total_contacts += count
+        self.peak_contacts = max(self.peak_contacts, count)
+        speeds = np.linalg.norm(frame.velocity[self.dynamic & frame.active], axis=1)
+        self.max_speed = max(self.max_speed, float(speeds.max(initial=0.0)))
+
+    def summary(self, *, scene: str, scene_sha256: str, status: str, seed: int, dt: float,
+                wall_seconds: float, step_seconds: float, divergence: str | None = None) -> dict[str, Any]:
+        """The statistics as a flat dict of str/int/float (None where undefined), in DESCRIPTIONS order."""
+        import numpy as np
+
+        first, last = self.first, self.last
+        if first is None or last is None:
+            raise ValueError("no frame recorded")
+        start, end = first.observables, last.observables
+        energy_start = float(start["kinetic_energy"]) + float(start["potential_energy"])
+        energy_drift = float(end["kinetic_energy"]) + float(end["potential_energy"]) - energy_start
+        moving = self.dynamic & last.active
+        speed = np.linalg.norm(last.velocity, axis=1)
+        at_rest = moving & (speed < REST_SPEED) & (np.abs(last.angular_velocity) < REST_ANGULAR_SPEED)
+        values = {
+            "scene": scene,
+            "scene_sha256": scene_sha256,
+            "status": status,
+            "seed": int(seed),
+            "ticks": last.tick,
+            "frames": self.frames,
+            "simulated_seconds": last.tick * dt,
+            "bodies": len(self.body_types),
+            "dynamic_bodies": int(self.dynamic.sum()),
+            "wall_seconds": wall_seconds,
+            "step_seconds": step_seconds,
+            "ticks_per_second": last.tick / step_seconds if step_seconds > 0 else None,
+            "initial_kinetic_energy": float(start["kinetic_energy"]),
+            "final_kinetic_energy": float(end["kinetic_energy"]),
+            "initial_potential_energy": float(start["potential_energy"]),
+            "final_potential_energy": float(end["potential_energy"]),
+            "energy_drift": energy_drift,
+            "relative_energy_drift": energy_drift / abs(energy_start) if energy_start else None,
+            "linear_momentum_drift": float(np.linalg.norm(
+                np.asarray(end["linear_momentum"]) - np.asarray(start["linear_momentum"]))),
+            "angular_momentum_drift": abs(float(end["angular_momentum"]) - float(start["angular_momentum"])),
+            "max_penetration": self.max_penetration,
+            "total_contact_points": self.total_contacts,
+            "peak_contact_points": self.peak_contacts,
+            "max_speed": self.max_speed,
+            "escaped_bodies": int((self.dynamic & ~last.active).sum()),
+            "bodies_at_rest": int(at_rest.sum()),
+            "divergence": divergence,
+        }
+        return {key: values[key] for key in DESCRIPTIONS}
+
+
+def sidecar_path(trajectory: Path) -> Path:
+    """`<output stem>.summary.json` next to the trajectory."""
+    return trajectory.with_name(f"{trajectory.stem}.summary.json")
+
+
+def to_json(data: dict[str, Any]) -> str:
+    """Strict JSON (non-finite numbers become null, at any depth), indented."""
+    return json.dumps(_finite(data), indent=2)
+
+
+def _finite(value: Any) -> Any:
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {key: _finite(item) for key, item in value.items()}
+    if isinstance(value, list | tuple):
+        return [_finite(item) for item in value]
+    return value
+
+
+def write_text_atomic(path: Path, text: str) -> None:
+    """Write `text` under a temporary name in the same folder, then rename it to `path`."""
+    from rustycs_cli.trajectory import temporary_path
+
+    temporary = temporary_path(path)
+    try:
+        temporary.write_text(text, encoding="utf-8")
+        os.replace(temporary, path)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
+
+
+def summary_table(summary: dict[str, Any], title: str) -> Table:
+    """The summary as a two-column rich table (numbers with 6 significant digits, undefined ones left out)."""
+    from rich.table import Table
+
+    table = Table(title=title, show_header=False, title_justify="left")
+    table.add_column("statistic", style="bold")
+    table.add_column("value", overflow="fold")
+    for key, value in summary.items():
+        if value is not None:
+            table.add_row(key, f"{value:.6g}" if isinstance(value, float) else str(value))
+    return table
