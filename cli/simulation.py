@@ -79,14 +79,14 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
         world = build_world(scene)
         if rustycs.compile_needed() and not quiet:
             print(f"rustycs: compiling the engine (happens once, ~{COMPILE_SECONDS} s)...", file=sys.stderr)
-        _warm_up(rustycs)
+        warm_up()
         names = [body.name for body in scene.bodies]
         tracker = SummaryTracker(list(world.body_types))
         writer = TrajectoryWriter(
             out, world, names=names, materials=material_names(scene),
             collision_groups=[body.collision_group for body in scene.bodies],
             attractor_names=[attractor.name for attractor in scene.attractors],
-            author=scene.author or "unknown", scene_text=loaded.text, overrides=loaded.overrides,
+            author="unknown", scene_text=loaded.text, overrides=loaded.overrides,
             contacts=contacts, compress=compress)
         with writer, _progress_bar(progress, ticks, scene.name) as advance:
 
@@ -133,17 +133,18 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
     return RunResult(out, sidecar, summary, status, EXIT_CODES[status], message)
 
 
-def _divergence_message(err: Exception, names: list[str], last_tick: int, out: Path) -> str:
-    """Which tick and body went non-finite, and what was kept."""
-    tick, body = getattr(err, "tick", "?"), getattr(err, "body", None)
-    known = isinstance(body, int) and 0 <= body < len(names)
-    who = f"body {names[body]!r} (index {body})" if known else "a body"
-    return (f"rustycs: the run diverged at tick {tick}: {who} got a non-finite state ({err}); "
+def _divergence_message(err: Any, names: list[str], last_tick: int, out: Path) -> str:
+    """Which tick and body went non-finite (err is a rustycs.SimulationDiverged), and what was kept."""
+    body = err.body
+    who = f"body {names[body]!r} (index {body})" if 0 <= body < len(names) else f"body index {body}"
+    return (f"rustycs: the run diverged at tick {err.tick}: {who} got a non-finite state; "
             f"frames up to tick {last_tick} are kept in {out}")
 
 
-def _warm_up(rustycs: Any) -> None:
+def warm_up() -> None:
     """Step a two-body world once, so compiling or loading the cached kernels is not timed as stepping."""
+    import rustycs
+
     world = rustycs.World()
     world.add_body(rustycs.Circle(radius=0.5), position=(0.0, 0.4))
     world.add_body(rustycs.Box(1.0, 1.0), position=(0.0, -0.5), body_type="static")
