@@ -16,7 +16,6 @@ from rustycs_cli.errors import UserError
 
 MAX_RANGE_VALUES = 100_000
 RANGE = re.compile(r"range\((?P<args>[^()]*)\)", re.IGNORECASE)
-EXPONENT = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)[eE][-+]?\d+")
 OPENERS, CLOSERS = "[{", "]}"
 
 
@@ -64,20 +63,19 @@ def parse_swept_key(option: str) -> SweptKey:
     texts = _range_texts(option, match["args"]) if match else _split_top_level(option, rest)
     if len(set(texts)) != len(texts):
         raise UserError(f"-p {option}: a value is listed twice")
-    return SweptKey(key, tuple(SweptValue(text, parse_value(text)) for text in texts))
+    return SweptKey(key, tuple(SweptValue(text, _parse(option, text)) for text in texts))
 
 
-def parse_value(text: str) -> Any:
-    """A value as YAML reads it, with numbers in exponent form (1e-3) read as numbers."""
+def _parse(option: str, text: str) -> Any:
+    """The value as `--set` reads it (YAML, with 1e-3 a number)."""
     import yaml
+    from rustycs_cli.yaml_source import parse_value
 
     try:
-        value = yaml.safe_load(text)
-    except yaml.YAMLError:
-        return text
-    if isinstance(value, str) and EXPONENT.fullmatch(value.strip()):
-        return float(value)
-    return value
+        return parse_value(text)
+    except yaml.YAMLError as err:
+        problem = getattr(err, "problem", None) or err
+        raise UserError(f"-p {option}: {text} is not valid YAML: {problem}") from None
 
 
 def _split_top_level(option: str, text: str) -> list[str]:
