@@ -1,0 +1,81 @@
+"""Summary statistics computed from hand-made frames, and their JSON form."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from rustycs_cli.summary import DESCRIPTIONS, SummaryTracker, sidecar_path, to_json, write_text_atomic
+from rustycs_cli.trajectory import Frame
+
+TYPES = ["static", "dynamic", "dynamic", "dynamic", "kinematic"]
+
+
+def frame(tick: int, velocity, angular_velocity, active, kinetic: float, potential: float, contacts: int,
+          penetration: float, momentum=(0.0, 0.0), angular_momentum: float = 0.0) -> Frame:
+    return Frame(
+        tick=tick,
+        position=np.zeros((5, 2)),
+        velocity=np.array(velocity, float),
+        angle=np.zeros(5),
+        angular_velocity=np.array(angular_velocity, float),
+        active=np.array(active, bool),
+        observables={"kinetic_energy": kinetic, "potential_energy": potential,
+                     "linear_momentum": np.array(momentum), "angular_momentum": angular_momentum,
+                     "contact_count": contacts, "max_penetration": penetration},
+        contacts=None,
+    )
+
+
+def summarise(frames: list[Frame], step_seconds: float = 0.5) -> dict:
+    tracker = SummaryTracker(TYPES)
+    for item in frames:
+        tracker.add(item)
+    return tracker.summary(scene="s", scene_sha256="ab", status="complete", seed=7, dt=0.01,
+                           wall_seconds=2.0, step_seconds=step_seconds)
+
+
+def test_statistics():
+    fast = [[0, 0], [3, 4], [0, 1], [1, 0], [9, 9]]  # kinematic and static speeds do not count
+    end = [[0, 0], [0, 0.0005], [0, 0], [0, 0], [9, 9]]
+    summary = summarise([
+        frame(0, fast, [0, 0, 0, 0, 0], [1, 1, 1, 1, 1], 10.0, 5.0, 0, 0.0, (1, 0), 2.0),
+        frame(10, fast, [0, 0, 0, 0, 0], [1, 1, 1, 1, 1], 8.0, 6.0, 7, 0.02),
+        frame(20, end, [0, 0, 0.01, 0, 5], [1, 1, 1, 0, 1], 1.0, 11.5, 3, 0.005, (4, 4), -1.0),
+    ])
+    assert summary["ticks"] == 20 and summary["frames"] == 3
+    assert summary["simulated_seconds"] == pytest.approx(0.2)
+    assert summary["bodies"] == 5 and summary["dynamic_bodies"] == 3
+    assert summary["ticks_per_second"] == pytest.approx(40.0)
+    assert summary["initial_kinetic_energy"] == 10.0 and summary["final_kinetic_energy"] == 1.0
+    assert summary["initial_potential_energy"] == 5.0 and summary["final_potential_energy"] == 11.5
+    assert summary["energy_drift"] == pytest.approx(-2.5)
+    assert summary["relative_energy_drift"] == pytest.approx(-2.5 / 15)
+    assert summary["linear_momentum_drift"] == pytest.approx(5.0)
+    assert summary["angular_momentum_drift"] == pytest.approx(3.0)
+    assert summary["max_penetration"] == 0.02
+    assert summary["total_contact_points"] == 10 and summary["peak_contact_points"] == 7
+    assert summary["max_speed"] == pytest.approx(5.0)
+    assert summary["escaped_bodies"] == 1  # body 3, dynamic and inactive
+    assert summary["bodies_at_rest"] == 1  # body 1 (speed 5e-4); body 2 turns, body 3 escaped
+    assert list(summary) == list(DESCRIPTIONS)
+    assert summary["divergence"] is None and summary["seed"] == 7
+
+
+def test_undefined_ratios_are_null():
+    still = [[0, 0]] * 5
+    summary = summarise([frame(0, still, [0] * 5, [1] * 5, 0.0, 0.0, 0, 0.0)], step_seconds=0.0)
+    assert summary["relative_energy_drift"] is None and summary["ticks_per_second"] is None
+    assert summary["bodies_at_rest"] == 3
+
+
+def test_json_is_strict_and_the_sidecar_sits_next_to_the_run(tmp_path: Path):
+    data = {"a": float("inf"), "b": [float("nan"), 1.0], "c": {"d": float("-inf")}, "e": "x"}
+    assert json.loads(to_json(data)) == {"a": None, "b": [None, 1.0], "c": {"d": None}, "e": "x"}
+    assert sidecar_path(tmp_path / "runs" / "bounce.h5") == tmp_path / "runs" / "bounce.summary.json"
+    target = tmp_path / "bounce.summary.json"
+    write_text_atomic(target, to_json(data))
+    assert json.loads(target.read_text())["e"] == "x"
+    assert [p.name for p in tmp_path.iterdir()] == ["bounce.summary.json"]
