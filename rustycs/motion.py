@@ -6,6 +6,8 @@ import math
 
 from numba import njit
 
+from rustycs.contact_solver import COS, DANGLE, DX, DY, SIN, VX, VY, W
+
 STATIC, DYNAMIC, KINEMATIC = 0, 1, 2
 BODY_TYPE_NAMES = ("static", "dynamic", "kinematic")
 
@@ -30,33 +32,34 @@ def attraction(px, py, att_pos, att_gm, att_range, att_min_distance):
 
 
 @njit(cache=True)
-def integrate_velocities(v, x, body_type, active, gravity, att_pos, att_gm, att_range, att_min_distance, h):
-    for i in range(v.shape[0]):
+def integrate_velocities(body, x, body_type, active, gravity, att_pos, att_gm, att_range,
+                         att_min_distance, h):
+    for i in range(x.shape[0]):
         if body_type[i] != DYNAMIC or not active[i]:
             continue
         ax, ay = attraction(x[i, 0], x[i, 1], att_pos, att_gm, att_range, att_min_distance)
-        v[i, 0] += h * (gravity[0] + ax)
-        v[i, 1] += h * (gravity[1] + ay)
+        body[i, VX] += h * (gravity[0] + ax)
+        body[i, VY] += h * (gravity[1] + ay)
 
 
 @njit(cache=True)
-def integrate_positions(x, angle, v, w, body_type, active, delta_x, delta_angle, rot, h):
+def integrate_positions(x, angle, body, body_type, active, h):
     """Move bodies and keep their displacement since the narrow phase (for the contact solver)."""
     for i in range(x.shape[0]):
-        if body_type[i] == 0 or not active[i]:
+        if body_type[i] == STATIC or not active[i]:
             continue
-        dx = h * v[i, 0]
-        dy = h * v[i, 1]
+        dx = h * body[i, VX]
+        dy = h * body[i, VY]
         x[i, 0] += dx
         x[i, 1] += dy
-        delta_x[i, 0] += dx
-        delta_x[i, 1] += dy
-        if w[i] != 0.0:
-            da = h * w[i]
+        body[i, DX] += dx
+        body[i, DY] += dy
+        if body[i, W] != 0.0:
+            da = h * body[i, W]
             angle[i] += da
-            delta_angle[i] += da
-            rot[i, 0] = math.cos(delta_angle[i])
-            rot[i, 1] = math.sin(delta_angle[i])
+            body[i, DANGLE] += da
+            body[i, COS] = math.cos(body[i, DANGLE])
+            body[i, SIN] = math.sin(body[i, DANGLE])
 
 
 @njit(cache=True)
