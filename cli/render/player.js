@@ -1,0 +1,533 @@
+// rustycs player: draws an embedded trajectory on a canvas. No network, no libraries.
+// window.player exposes the state (frame, playing, speed, overlay toggles, camera) for scripts and tests.
+"use strict";
+(() => {
+  const header = JSON.parse(document.getElementById("rustycs-header").textContent);
+
+  function decode(name, Type) {
+    const element = document.getElementById("rustycs-" + name);
+    if (!element) return null;
+    const text = atob(element.textContent.trim());
+    const bytes = new Uint8Array(text.length);
+    for (let i = 0; i < text.length; i++) bytes[i] = text.charCodeAt(i);
+    return new Type(bytes.buffer);
+  }
+
+  const position = decode("position", Float32Array);
+  const angle = decode("angle", Float32Array);
+  const velocity = decode("velocity", Float32Array);
+  const angularVelocity = decode("angularVelocity", Float32Array);
+  const active = decode("active", Uint8Array);
+  const contactOffset = decode("contactOffset", Int32Array);
+  const contactPoint = decode("contactPoint", Float32Array);
+  const contactNormal = decode("contactNormal", Float32Array);
+
+  const bodies = header.bodies;
+  const N = bodies.names.length;
+  const F = header.steps.length;
+  const times = header.times;
+  const COLORS = { grid: "#e4e4e4", axes: "#b4b4b4", text: "#1e1e1e", hitbox: "#0079f1", contact: "#0079f1",
+    velocity: "#c800c8", attractor: "#e6a000", bounds: "#e67878", spoke: "#ffffff", hover: "#ff8c00" };
+
+  // Per-body constants: vertices in counter-clockwise order (so overlapping fills never cancel out),
+  // how far the body reaches from its origin (for culling), and the draw order (statics first).
+  const vertices = bodies.vertices.map((flat) => {
+    let area = 0;
+    const count = flat.length / 2;
+    for (let k = 0; k < count; k++) {
+      const j = (k + 1) % count;
+      area += flat[2 * k] * flat[2 * j + 1] - flat[2 * j] * flat[2 * k + 1];
+    }
+    if (area >= 0) return flat;
+    const reversed = [];
+    for (let k = count - 1; k >= 0; k--) reversed.push(flat[2 * k], flat[2 * k + 1]);
+    return reversed;
+  });
+  const reach = vertices.map((flat, i) => {
+    let r = bodies.radius[i];
+    for (let k = 0; k < flat.length; k += 2) r = Math.max(r, Math.hypot(flat[k], flat[k + 1]));
+    return r;
+  });
+  const isStatic = bodies.types.map((type) => type === "static");
+  const order = [...Array(N).keys()].sort((a, b) => (isStatic[b] - isStatic[a]) || (a - b));
+
+  const canvas = document.getElementById("view");
+  const ctx = canvas.getContext("2d");
+  const stage = document.getElementById("stage");
+  const label = document.getElementById("label");
+  const tooltip = document.getElementById("tooltip");
+  const scrub = document.getElementById("scrub");
+  const playButton = document.getElementById("play");
+  const speedSelect = document.getElementById("speed");
+  document.getElementById("note").textContent = header.note || "";
+  scrub.max = String(Math.max(F - 1, 0));
+
+  const state = {
+    frame: Math.min(Math.max(header.startFrame || 0, 0), F - 1),
+    playing: false,
+    speed: 1,
+    hitboxes: !!header.overlays.hitboxes,
+    contacts: !!header.overlays.contacts,
+    velocities: !!header.overlays.velocities,
+    names: !!header.overlays.names,
+    scale: 1, // pixels per metre
+    cx: 0, // world point at the centre of the canvas
+    cy: 0,
+    hover: -1, // body under the mouse
+  };
+  const stats = { draws: 0, lastDrawMs: 0, maxDrawMs: 0 };
+  let width = 1, height = 1, dpr = 1, dirty = true, clock = 0, lastNow = null;
+  let mouse = null, drag = null;
+
+  // ---- camera ----
+  const sx = (x) => (x - state.cx) * state.scale + width / 2;
+  const sy = (y) => height / 2 - (y - state.cy) * state.scale;
+  const wx = (px) => (px - width / 2) / state.scale + state.cx;
+  const wy = (py) => state.cy - (py - height / 2) / state.scale;
+
+  function resize() {
+    const rect = canvas.getBoundingClientRect();
+    dpr = window.devicePixelRatio || 1;
+    width = Math.max(rect.width, 1);
+    height = Math.max(rect.height, 1);
+    canvas.width = Math.round(width * dpr);
+    canvas.height = Math.round(height * dpr);
+    dirty = true;
+  }
+
+  function fit() {
+    const [x0, y0, x1, y1] = header.view;
+    state.scale = Math.min(width / (x1 - x0), height / (y1 - y0));
+    state.cx = (x0 + x1) / 2;
+    state.cy = (y0 + y1) / 2;
+    dirty = true;
+  }
+
+  function zoomAt(px, py, factor) {
+    const x = wx(px), y = wy(py);
+    state.scale = Math.min(Math.max(state.scale * factor, 1e-4), 1e7);
+    state.cx = x - (px - width / 2) / state.scale;
+    state.cy = y + (py - height / 2) / state.scale;
+    dirty = true;
+  }
+
+  // ---- geometry of body i at frame f, in screen pixels ----
+  const points = new Float64Array(16);
+
+  function bodyPoints(f, i) { // fills `points`, returns the vertex count (0: circle)
+    const base = f * N + i;
+    const x = position[2 * base], y = position[2 * base + 1], a = angle[base];
+    const c = Math.cos(a), s = Math.sin(a), flat = vertices[i];
+    for (let k = 0; k < flat.length; k += 2) {
+      points[k] = sx(x + c * flat[k] - s * flat[k + 1]);
+      points[k + 1] = sy(y + s * flat[k] + c * flat[k + 1]);
+    }
+    return flat.length / 2;
+  }
+
+  function visible(f, i) {
+    const base = f * N + i;
+    if (!active[base]) return false;
+    const x = position[2 * base], y = position[2 * base + 1];
+    if (!Number.isFinite(x) || !Number.isFinite(y)) return false;
+    const px = sx(x), py = sy(y), r = reach[i] * state.scale + 2;
+    return px + r >= 0 && px - r <= width && py + r >= 0 && py - r <= height;
+  }
+
+  function centerOfMass(f, i) {
+    const base = f * N + i, a = angle[base], [lx, ly] = bodies.centroid[i];
+    return [position[2 * base] + Math.cos(a) * lx - Math.sin(a) * ly,
+      position[2 * base + 1] + Math.sin(a) * lx + Math.cos(a) * ly];
+  }
+
+  function screenBox(f, i) { // [xmin, ymin, xmax, ymax] in pixels
+    const count = bodyPoints(f, i);
+    if (count === 0) {
+      const base = f * N + i, r = bodies.radius[i] * state.scale;
+      const px = sx(position[2 * base]), py = sy(position[2 * base + 1]);
+      return [px - r, py - r, px + r, py + r];
+    }
+    let x0 = Infinity, y0 = Infinity, x1 = -Infinity, y1 = -Infinity;
+    for (let k = 0; k < 2 * count; k += 2) {
+      x0 = Math.min(x0, points[k]); x1 = Math.max(x1, points[k]);
+      y0 = Math.min(y0, points[k + 1]); y1 = Math.max(y1, points[k + 1]);
+    }
+    return [x0, y0, x1, y1];
+  }
+
+  function addShape(path, f, i) { // the outline of body i as a closed sub-path
+    const count = bodyPoints(f, i);
+    if (count === 0) {
+      const base = f * N + i, px = sx(position[2 * base]), py = sy(position[2 * base + 1]);
+      const r = Math.max(bodies.radius[i] * state.scale, 0.5);
+      path.moveTo(px + r, py);
+      path.arc(px, py, r, 0, 2 * Math.PI, true); // anticlockwise on screen = counter-clockwise in the world
+      return;
+    }
+    path.moveTo(points[0], points[1]);
+    for (let k = 2; k < 2 * count; k += 2) path.lineTo(points[k], points[k + 1]);
+    path.closePath();
+  }
+
+  function addSpoke(path, f, i) { // circles: centre to the rotated body-local point (0, r)
+    const r = bodies.radius[i] * state.scale;
+    if (vertices[i].length > 0 || r < 3) return;
+    const base = f * N + i, a = angle[base];
+    const px = sx(position[2 * base]), py = sy(position[2 * base + 1]);
+    path.moveTo(px, py);
+    path.lineTo(px - Math.sin(a) * r, py - Math.cos(a) * r);
+  }
+
+  // ---- drawing ----
+  function gridSpacing(scale) { // as rustycs_cli.render.view.grid_spacing
+    const minPixels = 24, maxPixels = 240;
+    if (scale >= minPixels && scale <= maxPixels) return 1;
+    const target = scale < minPixels ? minPixels / scale : (2 * minPixels) / scale;
+    const power = 10 ** Math.floor(Math.log10(target));
+    for (const m of [1, 2, 5, 10]) if (m * power >= target * (1 - 1e-9)) return m * power;
+    return 10 * power;
+  }
+
+  function drawGrid() {
+    const spacing = gridSpacing(state.scale);
+    const x0 = wx(0), x1 = wx(width), y0 = wy(height), y1 = wy(0);
+    const lines = new Path2D(), axes = new Path2D();
+    for (let k = Math.ceil(x0 / spacing); k <= Math.floor(x1 / spacing); k++) {
+      const px = Math.round(sx(k * spacing)) + 0.5;
+      (k === 0 ? axes : lines).moveTo(px, 0);
+      (k === 0 ? axes : lines).lineTo(px, height);
+    }
+    for (let k = Math.ceil(y0 / spacing); k <= Math.floor(y1 / spacing); k++) {
+      const py = Math.round(sy(k * spacing)) + 0.5;
+      (k === 0 ? axes : lines).moveTo(0, py);
+      (k === 0 ? axes : lines).lineTo(width, py);
+    }
+    ctx.lineWidth = 1;
+    ctx.strokeStyle = COLORS.grid;
+    ctx.stroke(lines);
+    ctx.strokeStyle = COLORS.axes;
+    ctx.stroke(axes);
+    const every = Math.max(1, Math.ceil(64 / (spacing * state.scale))), step = spacing * every;
+    const decimals = Math.max(0, -Math.floor(Math.log10(step)));
+    const text = (v) => (Math.abs(v) < step / 2 ? "0" : v.toFixed(decimals));
+    ctx.fillStyle = COLORS.axes;
+    ctx.font = "10px sans-serif";
+    ctx.textAlign = "left";
+    ctx.textBaseline = "bottom";
+    for (let k = Math.ceil(x0 / step); k <= Math.floor(x1 / step); k++) {
+      ctx.fillText(text(k * step), sx(k * step) + 2, height - 3);
+    }
+    for (let k = Math.ceil(y0 / step); k <= Math.floor(y1 / step); k++) {
+      if (sy(k * step) > 34) ctx.fillText(text(k * step), 3, sy(k * step) - 2);
+    }
+  }
+
+  function drawWorld() {
+    if (header.bounds) {
+      const [x0, y0, x1, y1] = header.bounds;
+      ctx.strokeStyle = COLORS.bounds;
+      ctx.lineWidth = 1;
+      ctx.strokeRect(sx(x0), sy(y1), (x1 - x0) * state.scale, (y1 - y0) * state.scale);
+    }
+    for (const attractor of header.attractors) {
+      const px = sx(attractor.x), py = sy(attractor.y);
+      ctx.lineWidth = 1;
+      if (attractor.range !== null) {
+        ctx.strokeStyle = COLORS.attractor;
+        ctx.beginPath();
+        ctx.arc(px, py, attractor.range * state.scale, 0, 2 * Math.PI);
+        ctx.stroke();
+      }
+      ctx.fillStyle = COLORS.attractor;
+      ctx.strokeStyle = COLORS.text;
+      ctx.beginPath();
+      ctx.arc(px, py, 5, 0, 2 * Math.PI);
+      ctx.fill();
+      ctx.stroke();
+    }
+  }
+
+  function drawBodies(f, shown) {
+    const fills = new Map(), outlines = new Map(), spokes = new Path2D(), kinematic = new Path2D();
+    const pathFor = (map, color) => map.get(color) || map.set(color, new Path2D()).get(color);
+    for (const i of shown) {
+      const color = bodies.colors[i];
+      if (isStatic[i]) {
+        const path = pathFor(outlines, color);
+        addShape(path, f, i);
+        addSpoke(path, f, i);
+      } else {
+        addShape(pathFor(fills, color), f, i);
+        addSpoke(spokes, f, i);
+        if (bodies.types[i] === "kinematic") addShape(kinematic, f, i);
+      }
+    }
+    ctx.lineWidth = 2;
+    for (const [color, path] of outlines) { ctx.strokeStyle = color; ctx.stroke(path); }
+    for (const [color, path] of fills) { ctx.fillStyle = color; ctx.fill(path); }
+    ctx.lineWidth = 1;
+    ctx.strokeStyle = COLORS.text;
+    ctx.stroke(kinematic);
+    ctx.strokeStyle = COLORS.spoke;
+    ctx.stroke(spokes);
+  }
+
+  function drawOverlays(f, shown) {
+    if (state.hitboxes) {
+      const path = new Path2D();
+      for (const i of shown) {
+        const [x0, y0, x1, y1] = screenBox(f, i);
+        path.rect(x0, y0, x1 - x0, y1 - y0);
+      }
+      ctx.lineWidth = 1;
+      ctx.strokeStyle = COLORS.hitbox;
+      ctx.stroke(path);
+    }
+    if (state.contacts && contactOffset) {
+      const dots = new Path2D(), normals = new Path2D();
+      for (let row = contactOffset[f]; row < contactOffset[f + 1]; row++) {
+        const px = sx(contactPoint[2 * row]), py = sy(contactPoint[2 * row + 1]);
+        normals.moveTo(px, py);
+        normals.lineTo(px + 14 * contactNormal[2 * row], py - 14 * contactNormal[2 * row + 1]);
+        dots.moveTo(px + 3, py);
+        dots.arc(px, py, 3, 0, 2 * Math.PI);
+      }
+      ctx.lineWidth = 1;
+      ctx.strokeStyle = COLORS.contact;
+      ctx.stroke(normals);
+      ctx.fillStyle = COLORS.contact;
+      ctx.fill(dots);
+    }
+    if (state.velocities) {
+      const arrows = new Path2D(), seconds = header.velocitySeconds;
+      for (const i of shown) {
+        if (isStatic[i]) continue;
+        const base = f * N + i, [x, y] = centerOfMass(f, i);
+        const x0 = sx(x), y0 = sy(y);
+        const x1 = sx(x + velocity[2 * base] * seconds), y1 = sy(y + velocity[2 * base + 1] * seconds);
+        const length = Math.hypot(x1 - x0, y1 - y0);
+        if (!(length >= 2)) continue;
+        const ux = (x1 - x0) / length, uy = (y1 - y0) / length;
+        arrows.moveTo(x0, y0);
+        arrows.lineTo(x1, y1);
+        arrows.moveTo(x1 - 6 * (ux + 0.5 * uy), y1 - 6 * (uy - 0.5 * ux));
+        arrows.lineTo(x1, y1);
+        arrows.lineTo(x1 - 6 * (ux - 0.5 * uy), y1 - 6 * (uy + 0.5 * ux));
+      }
+      ctx.lineWidth = 1.5;
+      ctx.strokeStyle = COLORS.velocity;
+      ctx.stroke(arrows);
+    }
+    if (state.names) {
+      ctx.fillStyle = COLORS.text;
+      ctx.font = "11px sans-serif";
+      ctx.textAlign = "center";
+      ctx.textBaseline = "bottom";
+      for (const i of shown) {
+        const [x0, y0, x1] = screenBox(f, i);
+        ctx.fillText(bodies.names[i], (x0 + x1) / 2, y0 - 2);
+      }
+      for (const attractor of header.attractors) ctx.fillText(attractor.name, sx(attractor.x), sy(attractor.y) - 7);
+    }
+  }
+
+  function drawHover(f) {
+    const i = state.hover;
+    if (i < 0 || !active[f * N + i]) { tooltip.style.display = "none"; return; }
+    const path = new Path2D();
+    addShape(path, f, i);
+    ctx.lineWidth = 2;
+    ctx.strokeStyle = COLORS.hover;
+    ctx.stroke(path);
+    const base = f * N + i, num = (v) => v.toFixed(4);
+    const vx = velocity[2 * base], vy = velocity[2 * base + 1];
+    tooltip.textContent = `${bodies.names[i]}  (${bodies.types[i]} ${bodies.shapes[i]}, ${bodies.materials[i]})\n`
+      + `position          ${num(position[2 * base])}, ${num(position[2 * base + 1])} m\n`
+      + `velocity          ${num(vx)}, ${num(vy)} m/s  (|v| ${num(Math.hypot(vx, vy))})\n`
+      + `angular velocity  ${num(angularVelocity[base])} rad/s`;
+    tooltip.style.display = "block";
+    if (mouse) {
+      const left = Math.min(mouse.x + 14, width - tooltip.offsetWidth - 4);
+      const top = mouse.y + 14 + tooltip.offsetHeight > height ? mouse.y - tooltip.offsetHeight - 8 : mouse.y + 14;
+      tooltip.style.left = `${Math.max(left, 4)}px`;
+      tooltip.style.top = `${Math.max(top, 4)}px`;
+    }
+  }
+
+  function draw() {
+    const started = performance.now();
+    const f = state.frame;
+    ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+    ctx.fillStyle = "#ffffff";
+    ctx.fillRect(0, 0, width, height);
+    drawGrid();
+    drawWorld();
+    const shown = order.filter((i) => visible(f, i));
+    drawBodies(f, shown);
+    drawOverlays(f, shown);
+    drawHover(f);
+    const missing = state.contacts && !header.hasContacts ? "   (no contacts recorded)" : "";
+    label.textContent = `tick ${header.steps[f]}   t = ${times[f].toFixed(3)} s   frame ${f + 1}/${F}${missing}`;
+    scrub.value = String(f);
+    playButton.innerHTML = state.playing ? "&#10074;&#10074;" : "&#9654;";
+    for (const name of ["hitboxes", "contacts", "velocities", "names"]) {
+      document.getElementById(name).checked = state[name];
+    }
+    dirty = false;
+    stats.draws += 1;
+    stats.lastDrawMs = performance.now() - started;
+    stats.maxDrawMs = Math.max(stats.maxDrawMs, stats.lastDrawMs);
+  }
+
+  // ---- hit test: the topmost active body under a screen point ----
+  function bodyAt(px, py) {
+    const f = state.frame, x = wx(px), y = wy(py);
+    for (let n = order.length - 1; n >= 0; n--) {
+      const i = order[n], base = f * N + i;
+      if (!active[base]) continue;
+      const dx = x - position[2 * base], dy = y - position[2 * base + 1];
+      if (!(dx * dx + dy * dy <= reach[i] * reach[i])) continue;
+      const flat = vertices[i];
+      if (flat.length === 0) return i;
+      const a = angle[base], c = Math.cos(a), s = Math.sin(a);
+      const lx = c * dx + s * dy, ly = -s * dx + c * dy; // into the body's frame
+      let inside = true;
+      for (let k = 0; k < flat.length && inside; k += 2) {
+        const j = (k + 2) % flat.length;
+        inside = (flat[j] - flat[k]) * (ly - flat[k + 1]) - (flat[j + 1] - flat[k + 1]) * (lx - flat[k]) >= 0;
+      }
+      if (inside) return i;
+    }
+    return -1;
+  }
+
+  // ---- playback ----
+  function setFrame(f) {
+    state.frame = Math.min(Math.max(Math.round(f), 0), F - 1);
+    clock = times[state.frame];
+    dirty = true;
+  }
+
+  function togglePlay() {
+    state.playing = !state.playing;
+    if (state.playing && state.frame >= F - 1) setFrame(0);
+    clock = times[state.frame];
+    lastNow = null;
+    dirty = true;
+  }
+
+  function step(delta) {
+    state.playing = false;
+    setFrame(state.frame + delta);
+  }
+
+  function toggle(name) {
+    state[name] = !state[name];
+    dirty = true;
+  }
+
+  function setSpeed(index) {
+    const options = speedSelect.options;
+    speedSelect.selectedIndex = Math.min(Math.max(index, 0), options.length - 1);
+    state.speed = Number(speedSelect.value);
+  }
+
+  const interval = F > 1 ? (times[F - 1] - times[0]) / (F - 1) : 0;
+
+  function animate(now) {
+    if (state.playing && F > 1) {
+      if (lastNow !== null) {
+        clock += ((now - lastNow) / 1000) * state.speed;
+        let f = state.frame;
+        while (f + 1 < F && times[f + 1] <= clock) f += 1;
+        if (f === F - 1 && clock >= times[F - 1] + interval) { f = 0; clock = times[0]; } // loop
+        if (f !== state.frame) { state.frame = f; dirty = true; }
+      }
+      lastNow = now;
+    }
+    if (dirty) draw();
+    requestAnimationFrame(animate);
+  }
+
+  // ---- input ----
+  const keys = { h: "hitboxes", c: "contacts", v: "velocities", n: "names" };
+  window.addEventListener("keydown", (event) => {
+    if (event.ctrlKey || event.metaKey || event.altKey) return;
+    const key = event.key.length === 1 ? event.key.toLowerCase() : event.key;
+    if (key === " " || key === "Spacebar") togglePlay();
+    else if (key === "ArrowRight") step(event.shiftKey ? 10 : 1);
+    else if (key === "ArrowLeft") step(event.shiftKey ? -10 : -1);
+    else if (key === "Home") step(-F);
+    else if (key === "End") step(F);
+    else if (keys[key]) toggle(keys[key]);
+    else if (key === "f" || key === "r") fit();
+    else if (key === "+" || key === "=") setSpeed(speedSelect.selectedIndex + 1);
+    else if (key === "-") setSpeed(speedSelect.selectedIndex - 1);
+    else return;
+    event.preventDefault(); // also keeps a focused button or slider from acting on the key
+  }, true);
+
+  playButton.addEventListener("click", togglePlay);
+  document.getElementById("back").addEventListener("click", () => step(-1));
+  document.getElementById("forward").addEventListener("click", () => step(1));
+  document.getElementById("fit").addEventListener("click", fit);
+  scrub.addEventListener("input", () => setFrame(Number(scrub.value)));
+  speedSelect.addEventListener("change", () => setSpeed(speedSelect.selectedIndex));
+  for (const name of Object.values(keys)) {
+    document.getElementById(name).addEventListener("change", (event) => {
+      state[name] = event.target.checked;
+      dirty = true;
+    });
+  }
+
+  canvas.addEventListener("wheel", (event) => {
+    event.preventDefault();
+    const lines = event.deltaMode === 1 ? 33 : event.deltaMode === 2 ? height : 1;
+    zoomAt(event.offsetX, event.offsetY, Math.exp(-event.deltaY * lines * 0.0015));
+  }, { passive: false });
+  canvas.addEventListener("pointerdown", (event) => {
+    drag = { x: event.offsetX, y: event.offsetY };
+    canvas.setPointerCapture(event.pointerId);
+    canvas.classList.add("dragging");
+  });
+  canvas.addEventListener("pointermove", (event) => {
+    mouse = { x: event.offsetX, y: event.offsetY };
+    if (drag) {
+      state.cx -= (event.offsetX - drag.x) / state.scale;
+      state.cy += (event.offsetY - drag.y) / state.scale;
+      drag = { x: event.offsetX, y: event.offsetY };
+    }
+    state.hover = bodyAt(mouse.x, mouse.y);
+    dirty = true;
+  });
+  const release = () => { drag = null; canvas.classList.remove("dragging"); };
+  canvas.addEventListener("pointerup", release);
+  canvas.addEventListener("pointercancel", release);
+  canvas.addEventListener("pointerleave", () => { mouse = null; state.hover = -1; dirty = true; });
+  window.addEventListener("resize", () => {
+    const x = state.cx, y = state.cy, scale = state.scale;
+    resize();
+    Object.assign(state, { cx: x, cy: y, scale });
+  });
+
+  window.player = {
+    state,
+    stats,
+    header,
+    frameCount: F,
+    bodyCount: N,
+    setFrame,
+    togglePlay,
+    step,
+    fit,
+    draw,
+    bodyAt,
+    worldToScreen: (x, y) => [sx(x), sy(y)], // CSS pixels within the canvas
+    ready: false,
+  };
+  resize();
+  fit();
+  draw();
+  window.player.ready = true;
+  requestAnimationFrame(animate);
+})();

@@ -1,0 +1,172 @@
+"""The self-contained HTML player: one offline file, the run embedded as base64 typed arrays.
+
+The page (player.html + player.js, next to this module) draws on a canvas; the data goes in
+<script type="application/octet-stream"> tags (one per array) plus a small JSON header.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import math
+import re
+from dataclasses import asdict, dataclass
+from importlib import resources
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+from rustycs_cli.render.bodies import RunInfo
+from rustycs_cli.render.colors import hex_color
+from rustycs_cli.render.frames import iter_blocks
+from rustycs_cli.render.raster import VELOCITY_SECONDS, Overlays
+from rustycs_cli.render.view import Box
+
+if TYPE_CHECKING:
+    import h5py
+
+MAX_FRAMES = 2000
+MAX_BYTES = 50_000_000  # embedded array bytes (before base64)
+BODY_FRAME_BYTES = 4 * 6 + 1  # float32 x, y, angle, vx, vy, w and one active byte
+CONTACT_BYTES = 4 * 4  # float32 point and normal
+
+
+@dataclass(frozen=True)
+class PlayerResult:
+    frames: int
+    every: int
+    notes: list[str]
+
+
+def write_player(
+    path: Path, file: h5py.File, run: RunInfo, view: Box, start: int, every: int | None, overlays: Overlays
+) -> PlayerResult:
+    """Write the player for `run` to `path`, thinned in time to MAX_FRAMES frames and MAX_BYTES."""
+    offsets = np.asarray(file["contacts/offset"], dtype=np.int64) if run.has_contacts else None
+    stride, note = _stride(run, every, offsets)
+    frames = range(start % stride, run.frame_count, stride)
+    arrays, contacts = _arrays(file, run, frames)
+    header = {
+        "source": run.source,
+        "bodies": _bodies(run),
+        "attractors": [
+            {"name": a.name, "x": a.position[0], "y": a.position[1], "range": _finite(a.range)}
+            for a in run.attractors
+        ],
+        "bounds": None if run.bounds is None else [float(v) for v in run.bounds.reshape(-1)],
+        "view": list(view),
+        "steps": run.steps[frames.start :: frames.step].tolist(),
+        "times": run.times[frames.start :: frames.step].tolist(),
+        "recordedFrames": run.frame_count,
+        "every": stride,
+        "startFrame": (start - frames.start) // stride,
+        "hasContacts": contacts is not None,
+        "note": note,
+        "velocitySeconds": VELOCITY_SECONDS,
+        "overlays": asdict(overlays),
+    }
+    blobs = {name: _base64(array) for name, array in {**arrays, **(contacts or {})}.items()}
+    html = _page(header, blobs)
+    path.write_text(html, encoding="utf-8")
+    return PlayerResult(len(frames), stride, [note] if note else [])
+
+
+def _stride(run: RunInfo, every: int | None, offsets: np.ndarray | None) -> tuple[int, str]:
+    """Every how many recorded frames the player keeps, and a note when that was forced by the budget."""
+    asked = every or 1
+    per_frame = run.body_count * BODY_FRAME_BYTES
+    if offsets is not None:
+        per_frame += CONTACT_BYTES * (offsets[-1] - offsets[0]) / max(run.frame_count, 1)
+    budget_frames = max(1, min(MAX_FRAMES, int(MAX_BYTES // max(per_frame, 1))))
+    needed = math.ceil(run.frame_count / budget_frames)
+    if needed <= asked:
+        return asked, ""
+    shown = math.ceil(run.frame_count / needed)
+    return needed, (
+        f"Long run thinned: every {needed}th recorded frame is shown ({shown} of {run.frame_count}), "
+        f"to keep the player under {MAX_FRAMES} frames and {MAX_BYTES // 1_000_000} MB."
+    )
+
+
+def _arrays(file: h5py.File, run: RunInfo, frames: range) -> tuple[dict[str, np.ndarray], dict | None]:
+    """The selected frames as float32/uint8 arrays (read in blocks), and their contacts if recorded."""
+    count, bodies = len(frames), run.body_count
+    arrays = {
+        "position": np.empty((count, bodies, 2), dtype="<f4"),
+        "angle": np.empty((count, bodies), dtype="<f4"),
+        "velocity": np.empty((count, bodies, 2), dtype="<f4"),
+        "angularVelocity": np.empty((count, bodies), dtype="<f4"),
+        "active": np.empty((count, bodies), dtype=np.uint8),
+    }
+    points, normals, offsets = [], [], [np.zeros(1, dtype=np.int64)]
+    row = 0
+    for block in iter_blocks(file, frames, run.has_contacts):
+        rows = slice(row, row + len(block.indices))
+        arrays["position"][rows] = block.position
+        arrays["angle"][rows] = block.angle
+        arrays["velocity"][rows] = block.velocity
+        arrays["angularVelocity"][rows] = block.angular_velocity
+        arrays["active"][rows] = block.active
+        if block.contacts is not None and block.contact_offset is not None:
+            points.append(block.contacts.point)
+            normals.append(block.contacts.normal)
+            offsets.append(offsets[-1][-1] + block.contact_offset[1:])
+        row += len(block.indices)
+    if not run.has_contacts:
+        return arrays, None
+    contacts = {
+        "contactOffset": np.concatenate(offsets).astype("<i4"),
+        "contactPoint": np.concatenate(points + [np.zeros((0, 2))]).astype("<f4"),
+        "contactNormal": np.concatenate(normals + [np.zeros((0, 2))]).astype("<f4"),
+    }
+    return arrays, contacts
+
+
+def _bodies(run: RunInfo) -> dict:
+    """The static body table, as JSON-friendly lists."""
+    return {
+        "names": run.names,
+        "types": run.types,
+        "shapes": run.shapes,
+        "materials": run.materials,
+        "colors": [hex_color(color) for color in run.colors],
+        "radius": [float(r) for r in run.radius],
+        "vertices": [
+            [float(v) for v in run.vertices[i, :count].reshape(-1)]
+            for i, count in enumerate(run.vertex_count)
+        ],
+        "centroid": [[float(c) for c in centroid] for centroid in run.centroid],
+    }
+
+
+def _finite(value: float) -> float | None:
+    return value if math.isfinite(value) else None
+
+
+def _base64(array: np.ndarray) -> str:
+    return base64.b64encode(np.ascontiguousarray(array).tobytes()).decode("ascii")
+
+
+def _page(header: dict, blobs: dict[str, str]) -> str:
+    """player.html with the script, the JSON header and the base64 arrays filled in."""
+    folder = resources.files("rustycs_cli.render")
+    template = folder.joinpath("player.html").read_text(encoding="utf-8")
+    script = folder.joinpath("player.js").read_text(encoding="utf-8")
+    # "<" escaped so that no string in the data (a body name) can close the <script> element early.
+    header_json = json.dumps(header, allow_nan=False).replace("<", "\\u003c")
+    data = "\n".join(
+        f'<script type="application/octet-stream" id="rustycs-{name}">{blob}</script>'
+        for name, blob in blobs.items()
+    )
+    values = {
+        "TITLE": _html_text(Path(header["source"]).name),
+        "HEADER": header_json,
+        "ARRAYS": data,
+        "SCRIPT": script,
+    }
+    # One pass over the template only: placeholder-like text inside the data is never expanded.
+    return re.sub(r"/\*RUSTYCS_(\w+)\*/|<!--RUSTYCS_(\w+)-->", lambda m: values[m[1] or m[2]], template)
+
+
+def _html_text(text: str) -> str:
+    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
