@@ -52,12 +52,13 @@ def _speed(v, i):
     return math.sqrt(v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1])
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, radius, nverts,
                local_verts, local_normals, restitution, friction, active, group,
                gravity, att_pos, att_gm, att_range, att_min_distance, settings,
                c_key, c_a, c_b, c_point, c_normal, c_sep, c_jn, c_jt):
-    """Advance `n_ticks` ticks in place.
+    """Advance `n_ticks` ticks in place. Releases the GIL, so independent worlds step in parallel
+    threads.
 
     Returns (bad_body, ticks_done, escaped, contact cache arrays...): bad_body is -1, or the first
     body whose state became non-finite in tick `ticks_done` (then the block stops there).
