@@ -11,6 +11,16 @@ from pathlib import Path
 from rustycs_cli.errors import UserError
 
 
+def check_suffix(out: Path, formats: tuple[str, ...], kind: str) -> str:
+    """OUT's suffix (lower case) when it is one of `formats`, else UserError naming the choices."""
+    suffix = out.suffix.lower()
+    if suffix not in formats:
+        raise UserError(
+            f"{out}: unknown {kind} type {suffix or '(no suffix)'!r}; use one of {', '.join(formats)}"
+        )
+    return suffix
+
+
 @contextmanager
 def atomic_output(target: str | Path) -> Iterator[Path]:
     """Yield a temporary path next to `target` (same suffix, so writers pick the right format);

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 
 from rustycs_cli.errors import UserError
 from rustycs_cli.render.bodies import RunInfo, load_run
-from rustycs_cli.render.output import atomic_output
+from rustycs_cli.render.output import atomic_output, check_suffix
 from rustycs_cli.render.raster import Overlays
 from rustycs_cli.render.view import View, fit_box, make_view, parse_box, parse_size
 
@@ -51,11 +51,7 @@ def render(request: RenderRequest) -> RenderResult:
     """Write the picture, animation or player `request.out` asks for."""
     from rustycs_cli.trajectory import open_trajectory
 
-    suffix = request.out.suffix.lower()
-    if suffix not in FORMATS:
-        raise UserError(
-            f"{request.out}: unknown output type {suffix or '(no suffix)'!r}; use one of {', '.join(FORMATS)}"
-        )
+    suffix = check_suffix(request.out, FORMATS, "output")
     if request.tick is not None and suffix in (".gif", ".mp4"):
         raise UserError(
             "--tick picks the frame of a .png (or the first frame of a .html); animations use --every"
