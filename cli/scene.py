@@ -1,0 +1,948 @@
+"""The scene format (version 1) as pydantic models: the single source of the JSON Schema and of validation.
+
+Every field carries a description, a default and an example, because `rustycs schema` turns these models
+into the schema that editors use to complete and check scene files. Checks that need the whole scene
+(unique names, known materials) live in `scene_problems`, so that each problem can be reported at its own
+place. The navigation helpers at the end (`resolve_annotation`, `model_fields_at`, `child_annotation`) let
+overrides and error messages walk the same types as the data, e.g. to suggest a key.
+"""
+
+from __future__ import annotations
+
+import difflib
+import functools
+import math
+import operator
+import types
+import typing
+from collections.abc import Callable, Sequence
+from typing import Annotated, Any, Literal
+
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Discriminator,
+    Field,
+    Tag,
+    ValidationInfo,
+    WithJsonSchema,
+    field_validator,
+    model_validator,
+)
+from pydantic.fields import FieldInfo
+from pydantic_core import PydanticCustomError
+
+Loc = tuple[str | int, ...]
+Problem = tuple[Loc, str]
+
+_VEC2_SCHEMA = {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2}
+Vec2 = Annotated[tuple[float, float], WithJsonSchema(_VEC2_SCHEMA)]
+BodyType = Literal["static", "dynamic", "kinematic"]
+SHAPE_TYPES = ("circle", "aabb", "obb", "polygon")
+MAX_VERTICES = 8
+
+# Tolerances of the polygon checks: below them a polygon counts as degenerate.
+_MIN_AREA = 1e-10  # m^2
+_MIN_EDGE = 1e-9  # m
+_MIN_SINE = 1e-9  # sine of the turn at a vertex, below it three points are collinear
+
+
+def did_you_mean(word: str, candidates: Sequence[str]) -> str:
+    """' (did you mean 'x'?)' for the closest candidate to a misspelt word, or ''."""
+    close = difflib.get_close_matches(word, [str(c) for c in candidates], n=1)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+class _Model(BaseModel):
+    """Base of every scene model: unknown keys are errors."""
+
+    model_config = ConfigDict(extra="forbid")
+
+
+def _one_of(tagger: Callable[[Any], str | None], error_type: str, message: str, **members: Any) -> Any:
+    """A union whose member is chosen by `tagger` (so that errors come from that member only)."""
+    choices = [Annotated[annotation, Tag(tag)] for tag, annotation in members.items()]
+    return Annotated[
+        functools.reduce(operator.or_, choices),
+        Discriminator(tagger, custom_error_type=error_type, custom_error_message=message),
+    ]
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _key_tag(value: Any, keys: Sequence[str]) -> str | None:
+    """The tag of a one-key mapping such as {uniform: [0, 1]}; a near miss of a key selects that key, so
+    that the error names the misspelt key."""
+    if isinstance(value, _Keyed):
+        return value.key()
+    if not isinstance(value, dict) or not value:
+        return None
+    for key in value:
+        if key in keys:
+            return str(key)
+    close = difflib.get_close_matches(str(next(iter(value))), list(keys), n=1)
+    return close[0] if close else None
+
+
+class _Keyed(_Model):
+    """A mapping with a single key that names its kind, like {uniform: [lo, hi]} or {pyramid: {...}}."""
+
+    def key(self) -> str:
+        return next(iter(type(self).model_fields))
+
+
+# ---------------------------------------------------------------------------------------------- materials
+
+
+class Material(_Model):
+    """A material: its density gives a body's mass; restitution and friction of a contact are the means of
+    the two bodies' values."""
+
+    density: float = Field(gt=0, description="Mass per area, kg/m^2. > 0.", examples=[1.2])
+    restitution: float = Field(ge=0, le=1, description="Bounciness, 0 (none) to 1 (elastic).", examples=[0.5])
+    friction: float = Field(ge=0, description="Coulomb friction coefficient, >= 0.", examples=[0.6])
+
+
+PRESET_MATERIALS: dict[str, Material] = {
+    "default": Material(density=0.1, restitution=0.5, friction=0.6),
+    "rubber": Material(density=0.9, restitution=0.6, friction=0.8),
+    "plastic": Material(density=1.2, restitution=0.5, friction=0.6),
+    "stone": Material(density=2.5, restitution=0.2, friction=0.4),
+    "metal": Material(density=7.8, restitution=0.1, friction=0.2),
+}
+
+
+def _material_tag(value: Any) -> str | None:
+    if isinstance(value, str):
+        return "name"
+    if isinstance(value, (dict, Material)):
+        return "inline"
+    return None
+
+
+MaterialRef = _one_of(
+    _material_tag,
+    "material",
+    "expected a material name or an inline material {density, restitution, friction}",
+    name=str,
+    inline=Material,
+)
+
+# ------------------------------------------------------------------------------------------------- shapes
+
+
+class Circle(_Model):
+    """A circle centred on the body's position."""
+
+    type: Literal["circle"] = Field(description="Shape kind.", examples=["circle"])
+    radius: float = Field(gt=0, description="Radius, m. > 0.", examples=[0.5])
+
+
+class Aabb(_Model):
+    """An axis-aligned box centred on the body's position. It never rotates (infinite rotational inertia),
+    so its body's angle must be 0; use `obb` for a box that turns."""
+
+    type: Literal["aabb"] = Field(description="Shape kind.", examples=["aabb"])
+    width: float = Field(gt=0, description="Extent along x, m. > 0.", examples=[12.0])
+    height: float = Field(gt=0, description="Extent along y, m. > 0.", examples=[0.5])
+
+
+class Obb(_Model):
+    """An oriented box centred on the body's position; the body's `angle` sets its orientation."""
+
+    type: Literal["obb"] = Field(description="Shape kind.", examples=["obb"])
+    width: float = Field(gt=0, description="Extent along the body's local x axis, m. > 0.", examples=[1.0])
+    height: float = Field(gt=0, description="Extent along the body's local y axis, m. > 0.", examples=[1.0])
+
+
+def polygon_problem(vertices: Sequence[tuple[float, float]]) -> tuple[str, int | None] | None:
+    """Why these vertices are not a valid polygon (and the vertex to blame), or None when they are:
+    3..8 distinct points, convex in either winding, not self-intersecting, not degenerate."""
+    n = len(vertices)
+    if not 3 <= n <= MAX_VERTICES:
+        return f"a polygon has 3 to {MAX_VERTICES} vertices, this one has {n}", None
+    pts = [(float(x), float(y)) for x, y in vertices]
+    for i in range(n):
+        for j in range(i):
+            if math.dist(pts[i], pts[j]) < _MIN_EDGE:
+                return f"vertex {i} repeats vertex {j}: the polygon is degenerate", i
+    for i in range(n):
+        for j in range(i + 2, n):
+            if (j + 1) % n != i and _segments_cross(pts[i], pts[(i + 1) % n], pts[j], pts[(j + 1) % n]):
+                return f"edges {i}-{(i + 1) % n} and {j}-{(j + 1) % n} cross: the polygon self-intersects", j
+    turns = []
+    for i in range(n):
+        a, b, c = pts[i - 1], pts[i], pts[(i + 1) % n]
+        ab, bc = (b[0] - a[0], b[1] - a[1]), (c[0] - b[0], c[1] - b[1])
+        cross = ab[0] * bc[1] - ab[1] * bc[0]
+        if abs(cross) <= _MIN_SINE * math.hypot(*ab) * math.hypot(*bc):
+            return f"vertex {i} lies on the line through its neighbours: the polygon is degenerate", i
+        turns.append(cross > 0)
+    for i in range(n):
+        if turns[i] != turns[0] and turns.count(turns[i]) <= turns.count(turns[0]):
+            return f"the polygon is not convex: it turns the other way at vertex {i}", i
+    if any(t != turns[0] for t in turns):
+        return "the polygon is not convex: it turns the other way at vertex 0", 0
+    area = 0.5 * abs(sum(pts[i - 1][0] * pts[i][1] - pts[i][0] * pts[i - 1][1] for i in range(n)))
+    if area < _MIN_AREA:
+        return f"the polygon's area {area:.3g} m^2 is too small: it is degenerate", None
+    return None
+
+
+def _segments_cross(
+    p: tuple[float, float], q: tuple[float, float], r: tuple[float, float], s: tuple[float, float]
+) -> bool:
+    """Whether the segments pq and rs share a point (touching counts)."""
+
+    def orient(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float]) -> float:
+        return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+
+    def within(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float]) -> bool:
+        return min(a[0], b[0]) <= c[0] <= max(a[0], b[0]) and min(a[1], b[1]) <= c[1] <= max(a[1], b[1])
+
+    d1, d2, d3, d4 = orient(r, s, p), orient(r, s, q), orient(p, q, r), orient(p, q, s)
+    if ((d1 > 0) != (d2 > 0)) and ((d3 > 0) != (d4 > 0)) and 0 not in (d1, d2, d3, d4):
+        return True
+    return any(
+        d == 0 and within(a, b, c)
+        for d, a, b, c in ((d1, r, s, p), (d2, r, s, q), (d3, p, q, r), (d4, p, q, s))
+    )
+
+
+class Polygon(_Model):
+    """A convex polygon. Vertices are body-local, placed exactly as written relative to the body's
+    position; the body rotates about the polygon's area centroid."""
+
+    type: Literal["polygon"] = Field(description="Shape kind.", examples=["polygon"])
+    vertices: list[Vec2] = Field(
+        description="3 to 8 points [x, y], m, body-local; convex, either winding.",
+        examples=[[[0, 0], [1, 0], [0, 1]]],
+    )
+
+    @field_validator("vertices")
+    @classmethod
+    def _valid_polygon(cls, vertices: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        problem = polygon_problem(vertices)
+        if problem is not None:
+            message, vertex = problem
+            raise PydanticCustomError("polygon", message, {"at": vertex} if vertex is not None else {})
+        return vertices
+
+
+def _shape_tag(value: Any) -> str | None:
+    if isinstance(value, dict):
+        if "choice" in value and "type" not in value:
+            return "choice"
+        kind = value.get("type")
+        return kind if isinstance(kind, str) else None
+    kind = getattr(value, "type", None)
+    if kind is None and isinstance(value, _Keyed):
+        return value.key()
+    return kind
+
+
+_SHAPE_ERROR = "expected a shape {type: circle | aabb | obb | polygon, ...}"
+Shape = _one_of(_shape_tag, "shape", _SHAPE_ERROR, circle=Circle, aabb=Aabb, obb=Obb, polygon=Polygon)
+
+# ------------------------------------------------------------------------------------------------- bodies
+
+
+class Body(_Model):
+    """One rigid body."""
+
+    name: str | None = Field(
+        None,
+        min_length=1,
+        description="Unique name: the body's id in every output. Default: '<shape type>-<index in bodies>'.",
+        examples=["crate"],
+    )
+    type: BodyType = Field(
+        "dynamic",
+        description="static: never moves; dynamic: moved by forces and contacts; kinematic: moves with its "
+        "own velocity, pushes dynamic bodies, unaffected by forces and contacts.",
+        examples=["static"],
+    )
+    shape: Shape = Field(
+        description="The body's shape (chosen by its `type`).", examples=[{"type": "circle", "radius": 0.2}]
+    )
+    position: Vec2 = Field(
+        description="The body's origin [x, y], m (the centre for circles and boxes).", examples=[[0, 2]]
+    )
+    velocity: Vec2 = Field(
+        (0.0, 0.0), description="Initial centre-of-mass velocity [vx, vy], m/s.", examples=[[1, 0]]
+    )
+    angle: float = Field(
+        0.0, description="Initial orientation, rad, counter-clockwise. Must be 0 for aabb.", examples=[0.3]
+    )
+    angular_velocity: float = Field(
+        0.0, description="Initial angular velocity, rad/s, counter-clockwise.", examples=[2.0]
+    )
+    material: MaterialRef = Field(
+        "default",
+        description="A preset (default, rubber, plastic, stone, metal), a name from `materials`, or an "
+        "inline {density, restitution, friction}.",
+        examples=["rubber", {"density": 2.0, "restitution": 0.1, "friction": 0.9}],
+    )
+    mass: float | None = Field(
+        None,
+        gt=0,
+        description="Mass, kg, overriding area x density; inertia scales with it. Default: area x density.",
+        examples=[3.0],
+    )
+    collision_group: int = Field(
+        0,
+        description="Two bodies with the same non-zero group never collide with each other (0: collides "
+        "with everything).",
+        examples=[1],
+    )
+
+    @field_validator("angle")
+    @classmethod
+    def _aabb_does_not_turn(cls, angle: float, info: ValidationInfo) -> float:
+        shape = info.data.get("shape")
+        if shape is not None and shape.type == "aabb" and angle != 0:
+            raise PydanticCustomError(
+                "aabb_angle",
+                "an aabb never rotates, so its angle must be 0: use shape type obb for a turned box",
+            )
+        return angle
+
+
+class Force(_Model):
+    """A constant acceleration on every dynamic body (all forces are summed into one world force)."""
+
+    name: str | None = Field(
+        None,
+        description="Optional name, for overrides like forces.gravity.acceleration.",
+        examples=["gravity"],
+    )
+    acceleration: Vec2 = Field(description="Acceleration [ax, ay], m/s^2.", examples=[[0, -9.81]])
+
+
+class Attractor(_Model):
+    """A fixed point pulling dynamic bodies with the acceleration G*M/d^2 towards it, whatever their mass."""
+
+    name: str | None = Field(
+        None, description="Optional name, for overrides like attractors.sun.mass.", examples=["sun"]
+    )
+    position: Vec2 = Field(description="Position [x, y], m.", examples=[[0, 0]])
+    mass: float = Field(gt=0, description="M, kg. > 0.", examples=[1000.0])
+    range: float | None = Field(
+        None,
+        gt=0,
+        description="Only bodies within this distance, m, are pulled. Default: no limit.",
+        examples=[5.0],
+    )
+    min_distance: float = Field(
+        0.01, gt=0, description="Softening: d is taken as max(d, min_distance), m.", examples=[0.1]
+    )
+
+
+class Rect(_Model):
+    """An axis-aligned rectangle given by its corners."""
+
+    min: Vec2 = Field(description="Lower-left corner [x, y], m.", examples=[[-100, -100]])
+    max: Vec2 = Field(description="Upper-right corner [x, y], m.", examples=[[100, 100]])
+
+    @model_validator(mode="after")
+    def _ordered(self) -> Rect:
+        if not (self.min[0] < self.max[0] and self.min[1] < self.max[1]):
+            raise PydanticCustomError("rect", "min must be below and left of max on both axes", {"at": "max"})
+        return self
+
+
+class World(_Model):
+    """Time stepping and world-wide settings."""
+
+    tick_rate: float = Field(
+        60.0, gt=0, description="Ticks per second; dt = 1 / tick_rate. > 0.", examples=[240]
+    )
+    ticks: int = Field(
+        600,
+        ge=0,
+        description="Default run length in ticks (`rustycs run --ticks` overrides).",
+        examples=[1200],
+    )
+    precision: int = Field(
+        10,
+        ge=1,
+        description="Solver iterations per tick (the thesis's collision precision). >= 1.",
+        examples=[10],
+    )
+    gravitational_constant: float = Field(1.0, ge=0, description="G used by attractors.", examples=[1.0])
+    bounds: Rect | None = Field(
+        None,
+        description="A dynamic body whose centre leaves this box is deactivated (frozen, no longer "
+        "collides) and counted as escaped. Default: unbounded.",
+        examples=[{"min": [-100, -100], "max": [100, 100]}],
+    )
+    restitution_threshold: float = Field(
+        1.0,
+        ge=0,
+        description="Contacts approaching slower than this, m/s, do not bounce (addition).",
+        examples=[1.0],
+    )
+
+
+class Output(_Model):
+    """What a run records."""
+
+    every: int = Field(1, ge=1, description="Record every N ticks (tick 0 is always recorded).", examples=[4])
+    contacts: bool = Field(False, description="Also record every contact point.", examples=[True])
+
+
+# ----------------------------------------------------------------------------------------------- generators
+
+
+class Uniform(_Keyed):
+    """A value drawn uniformly from [lo, hi)."""
+
+    uniform: Vec2 = Field(description="[lo, hi]", examples=[[0.1, 0.3]])
+
+    @model_validator(mode="after")
+    def _ordered(self) -> Uniform:
+        if self.uniform[0] > self.uniform[1]:
+            raise PydanticCustomError("range", "lo must not exceed hi", {"at": "uniform"})
+        return self
+
+
+class UniformInt(_Keyed):
+    """A whole number drawn uniformly from lo..hi (both included)."""
+
+    uniform_int: tuple[int, int] = Field(description="[lo, hi], inclusive", examples=[[3, 8]])
+
+    @model_validator(mode="after")
+    def _ordered(self) -> UniformInt:
+        if self.uniform_int[0] > self.uniform_int[1]:
+            raise PydanticCustomError("range", "lo must not exceed hi", {"at": "uniform_int"})
+        return self
+
+
+class Normal(_Keyed):
+    """A value drawn from a normal distribution."""
+
+    normal: Vec2 = Field(description="[mean, standard deviation]", examples=[[0.0, 0.5]])
+
+    @model_validator(mode="after")
+    def _spread(self) -> Normal:
+        if self.normal[1] < 0:
+            raise PydanticCustomError("range", "the standard deviation must be >= 0", {"at": "normal"})
+        return self
+
+
+class NumberChoice(_Keyed):
+    """One of the listed numbers, each equally likely."""
+
+    choice: list[float] = Field(
+        min_length=1, description="The numbers to choose from.", examples=[[0.1, 0.2]]
+    )
+
+
+_DISTRIBUTIONS = ("uniform", "uniform_int", "normal", "choice")
+
+
+def _number_tag(value: Any) -> str | None:
+    return "number" if _is_number(value) else _key_tag(value, _DISTRIBUTIONS)
+
+
+Number = _one_of(
+    _number_tag,
+    "number",
+    "expected a number or a distribution: {uniform: [lo, hi]}, {uniform_int: [lo, hi]}, "
+    "{normal: [mean, std]} or {choice: [a, b, ...]}",
+    number=float,
+    uniform=Uniform,
+    uniform_int=UniformInt,
+    normal=Normal,
+    choice=NumberChoice,
+)
+NumberPair = tuple[Number, Number]
+
+
+class BodyTypeChoice(_Keyed):
+    """One of the listed body types, each equally likely."""
+
+    choice: list[BodyType] = Field(
+        min_length=1, description="Body types to choose from.", examples=[["dynamic", "static"]]
+    )
+
+
+class MaterialChoice(_Keyed):
+    """One of the listed materials, each equally likely."""
+
+    choice: list[MaterialRef] = Field(
+        min_length=1,
+        description="Materials (names or inline) to choose from.",
+        examples=[["rubber", "plastic", "stone", "metal"]],
+    )
+
+
+def _named_tag(value: Any) -> str | None:
+    if isinstance(value, (str, Material)):
+        return "name" if isinstance(value, str) else "inline"
+    if isinstance(value, (dict, _Keyed)):
+        return "choice" if _key_tag(value, ("choice",)) == "choice" else "inline"
+    return None
+
+
+GeneratedBodyType = _one_of(
+    lambda v: "name" if isinstance(v, str) else _key_tag(v, ("choice",)),
+    "body_type",
+    "expected static, dynamic, kinematic or {choice: [...]}",
+    name=BodyType,
+    choice=BodyTypeChoice,
+)
+GeneratedMaterial = _one_of(
+    _named_tag,
+    "material",
+    "expected a material name, an inline material {density, restitution, friction} or {choice: [...]}",
+    name=str,
+    inline=Material,
+    choice=MaterialChoice,
+)
+
+
+class RandomCircle(_Model):
+    """A circle whose radius may be drawn."""
+
+    type: Literal["circle"] = Field(description="Shape kind.", examples=["circle"])
+    radius: Number = Field(
+        description="Radius, m (number or distribution).", examples=[{"uniform": [0.1, 0.5]}]
+    )
+
+
+class RandomAabb(_Model):
+    """An axis-aligned box whose size may be drawn."""
+
+    type: Literal["aabb"] = Field(description="Shape kind.", examples=["aabb"])
+    width: Number = Field(description="Width, m (number or distribution).", examples=[1.0])
+    height: Number = Field(
+        description="Height, m (number or distribution).", examples=[{"uniform": [0.2, 1]}]
+    )
+
+
+class RandomObb(_Model):
+    """An oriented box whose size may be drawn."""
+
+    type: Literal["obb"] = Field(description="Shape kind.", examples=["obb"])
+    width: Number = Field(description="Width, m (number or distribution).", examples=[{"uniform": [0.2, 1]}])
+    height: Number = Field(description="Height, m (number or distribution).", examples=[0.5])
+
+
+class RandomPolygon(_Model):
+    """A random convex polygon inscribed in a circle: `vertices` points at jittered, evenly spread angles."""
+
+    type: Literal["random_polygon"] = Field(description="Shape kind.", examples=["random_polygon"])
+    vertices: Number = Field(
+        description="Vertex count, a whole number 3..8 (number, {uniform_int: [lo, hi]} or {choice: [...]}).",
+        examples=[{"uniform_int": [3, 8]}],
+    )
+    radius: Number = Field(
+        description="Radius of the circle the vertices lie on, m (number or distribution).",
+        examples=[{"uniform": [0.3, 0.6]}],
+    )
+
+    @field_validator("vertices")
+    @classmethod
+    def _whole_counts(cls, spec: Any) -> Any:
+        values = (
+            [spec]
+            if isinstance(spec, float)
+            else list(spec.uniform_int)
+            if isinstance(spec, UniformInt)
+            else spec.choice
+            if isinstance(spec, NumberChoice)
+            else None
+        )
+        if values is None or any(v != int(v) or not 3 <= v <= MAX_VERTICES for v in values):
+            raise PydanticCustomError(
+                "vertex_count",
+                f"the vertex count must be a whole number from 3 to {MAX_VERTICES}: a number, "
+                "{{uniform_int: [lo, hi]}} or {{choice: [...]}}",
+                {},
+            )
+        return spec
+
+
+_GENERATED_SHAPES = {
+    "circle": RandomCircle,
+    "aabb": RandomAabb,
+    "obb": RandomObb,
+    "polygon": Polygon,
+    "random_polygon": RandomPolygon,
+}
+_GENERATED_SHAPE_ERROR = "expected a shape {type: circle | aabb | obb | polygon | random_polygon, ...}"
+GeneratedSingleShape = _one_of(_shape_tag, "shape", _GENERATED_SHAPE_ERROR, **_GENERATED_SHAPES)
+
+
+class ShapeChoice(_Keyed):
+    """One of the listed shapes, each equally likely."""
+
+    choice: list[GeneratedSingleShape] = Field(
+        min_length=1,
+        description="Shapes to choose from.",
+        examples=[[{"type": "circle", "radius": 0.3}, {"type": "obb", "width": 0.5, "height": 0.5}]],
+    )
+
+
+GeneratedShape = _one_of(
+    _shape_tag,
+    "shape",
+    _GENERATED_SHAPE_ERROR + " or {choice: [shape, ...]}",
+    **_GENERATED_SHAPES,
+    choice=ShapeChoice,
+)
+
+
+class PyramidParams(_Model):
+    """Rows of bodies, each row one shorter and centred on the row below."""
+
+    base: int = Field(ge=1, description="Bodies in the bottom row.", examples=[20])
+    origin: Vec2 = Field(description="Centre of the bottom row [x, y], m.", examples=[[0, 0.5]])
+    spacing: Vec2 = Field(
+        description="[dx, dy]: distance between neighbours in a row and between rows, m.",
+        examples=[[1.0, 1.0]],
+    )
+
+
+class StackParams(_Model):
+    """A vertical column of bodies, bottom up."""
+
+    origin: Vec2 = Field(description="Position of the bottom body [x, y], m.", examples=[[0, 0.5]])
+    spacing: float = Field(
+        gt=0, description="Vertical distance between consecutive bodies, m.", examples=[1.0]
+    )
+
+
+class GridParams(_Model):
+    """Rows of `columns` bodies, filled left to right, bottom up."""
+
+    origin: Vec2 = Field(description="Position of the bottom-left body [x, y], m.", examples=[[-9, 1]])
+    columns: int = Field(ge=1, description="Bodies per row.", examples=[20])
+    spacing: Vec2 = Field(
+        description="[dx, dy]: distance between columns and between rows, m.", examples=[[0.6, 0.6]]
+    )
+    jitter: Vec2 = Field(
+        (0.0, 0.0),
+        description="Each position is moved by a uniform offset in [-jx, jx] x [-jy, jy], m.",
+        examples=[[0.05, 0.05]],
+    )
+
+
+class Pyramid(_Keyed):
+    """Pyramid layout: the full pyramid has base*(base+1)/2 bodies."""
+
+    pyramid: PyramidParams = Field(
+        description="Pyramid parameters.", examples=[{"base": 20, "origin": [0, 0.5], "spacing": [1, 1]}]
+    )
+
+
+class Stack(_Keyed):
+    """Stack layout."""
+
+    stack: StackParams = Field(description="Stack parameters.", examples=[{"origin": [0, 0.5], "spacing": 1}])
+
+
+class Grid(_Keyed):
+    """Grid layout."""
+
+    grid: GridParams = Field(
+        description="Grid parameters.", examples=[{"origin": [-9, 1], "columns": 20, "spacing": [0.6, 0.6]}]
+    )
+
+
+Layout = _one_of(
+    lambda v: _key_tag(v, ("pyramid", "stack", "grid")),
+    "layout",
+    "expected a layout {pyramid: {...}}, {stack: {...}} or {grid: {...}}",
+    pyramid=Pyramid,
+    stack=Stack,
+    grid=Grid,
+)
+
+
+class Generator(_Model):
+    """Many bodies from one entry, named '<name>-<i>'. Numeric fields may be distributions; positions are
+    drawn uniformly in `region` unless a `layout` places them."""
+
+    name: str | None = Field(
+        None,
+        min_length=1,
+        description="Names the bodies '<name>-<i>' and seeds the generator's random "
+        "numbers (with the scene's seed). Default: 'generator-<index>'.",
+        examples=["rain"],
+    )
+    count: int | None = Field(
+        None,
+        ge=0,
+        description="Number of bodies. Required, except for a pyramid layout, where it defaults "
+        "to the full pyramid.",
+        examples=[500],
+    )
+    type: GeneratedBodyType = Field(
+        "dynamic", description="Body type of every body, or {choice: [...]}.", examples=["dynamic"]
+    )
+    shape: GeneratedShape = Field(
+        description="Shape, whose sizes may be distributions; also {type: random_polygon, vertices, radius} "
+        "and {choice: [shape, ...]}.",
+        examples=[{"type": "circle", "radius": {"uniform": [0.1, 0.3]}}],
+    )
+    region: Rect | None = Field(
+        None,
+        description="Positions are drawn uniformly in this rectangle (when no layout is given).",
+        examples=[{"min": [-9, 5], "max": [9, 40]}],
+    )
+    layout: Layout | None = Field(
+        None,
+        description="Places bodies in a pyramid, stack or grid instead of a random region.",
+        examples=[{"grid": {"origin": [-9, 1], "columns": 20, "spacing": [0.6, 0.6]}}],
+    )
+    angle: Number = Field(
+        0.0,
+        description="Initial angle, rad (number or distribution).",
+        examples=[{"uniform": [-3.14159, 3.14159]}],
+    )
+    velocity: NumberPair = Field(
+        (0.0, 0.0),
+        description="Initial velocity [vx, vy], m/s; each a number or a distribution.",
+        examples=[[0, {"uniform": [-1, 1]}]],
+    )
+    angular_velocity: Number = Field(
+        0.0,
+        description="Initial angular velocity, rad/s (number or distribution).",
+        examples=[{"normal": [0, 1]}],
+    )
+    material: GeneratedMaterial = Field(
+        "default",
+        description="Material name, inline material, or {choice: [...]}.",
+        examples=[{"choice": ["rubber", "plastic", "stone", "metal"]}],
+    )
+    mass: Number | None = Field(
+        None,
+        description="Mass override, kg (number or distribution). Default: area x density.",
+        examples=[1.0],
+    )
+    collision_group: int = Field(0, description="collision_group of every body.", examples=[0])
+
+    @model_validator(mode="after")
+    def _placement(self) -> Generator:
+        if (self.region is None) == (self.layout is None):
+            raise PydanticCustomError("placement", "a generator needs either a region or a layout", {})
+        if isinstance(self.layout, Pyramid):
+            full = self.layout.pyramid.base * (self.layout.pyramid.base + 1) // 2
+            if self.count is not None and self.count > full:
+                raise PydanticCustomError(
+                    "count",
+                    f"a pyramid of base {self.layout.pyramid.base} holds "
+                    f"{full} bodies, count must not exceed that",
+                    {"at": "count"},
+                )
+        elif self.count is None:
+            raise PydanticCustomError("missing", "missing key 'count'", {})
+        return self
+
+
+# -------------------------------------------------------------------------------------------------- scene
+
+
+class Scene(_Model):
+    """A rustycs scene: bodies, forces and attractors, and how to run and record them. Units are SI
+    (m, kg, s, rad); +y is up; angles are counter-clockwise."""
+
+    model_config = ConfigDict(
+        title="rustycs scene",
+        json_schema_extra={
+            "examples": [
+                {
+                    "name": "drop",
+                    "bodies": [
+                        {
+                            "name": "floor",
+                            "type": "static",
+                            "shape": {"type": "aabb", "width": 10, "height": 1},
+                            "position": [0, -0.5],
+                        },
+                        {
+                            "name": "ball",
+                            "shape": {"type": "circle", "radius": 0.5},
+                            "position": [0, 5],
+                            "material": "rubber",
+                        },
+                    ],
+                }
+            ]
+        },
+    )
+
+    version: Literal[1] = Field(1, description="Scene format version.", examples=[1])
+    name: str | None = Field(
+        None, min_length=1, description="Scene name. Default: the file's stem.", examples=["material-bounce"]
+    )
+    description: str = Field("", description="Free text.", examples=["Five balls of different materials."])
+    seed: int = Field(
+        0, ge=0, description="Seeds every generator (`rustycs run --seed` overrides).", examples=[0]
+    )
+    world: World = Field(
+        default_factory=World,
+        description="Time stepping and world-wide settings.",
+        examples=[{"tick_rate": 240, "ticks": 1200, "precision": 10}],
+    )
+    forces: list[Force] = Field(
+        default_factory=list,
+        description="Constant accelerations on every dynamic body.",
+        examples=[[{"name": "gravity", "acceleration": [0, -9.81]}]],
+    )
+    attractors: list[Attractor] = Field(
+        default_factory=list,
+        description="Fixed points that pull dynamic bodies.",
+        examples=[[{"name": "sun", "position": [0, 0], "mass": 1000}]],
+    )
+    materials: dict[str, Material] = Field(
+        default_factory=dict,
+        description="User materials by name; they extend, and may override, the presets default (0.1, 0.5, "
+        "0.6), rubber (0.9, 0.6, 0.8), plastic (1.2, 0.5, 0.6), stone (2.5, 0.2, 0.4) and metal (7.8, 0.1, "
+        "0.2) as (density, restitution, friction).",
+        examples=[{"ice": {"density": 0.9, "restitution": 0.05, "friction": 0.02}}],
+    )
+    bodies: list[Body] = Field(
+        default_factory=list,
+        description="The bodies, in output order.",
+        examples=[[{"shape": {"type": "circle", "radius": 0.2}, "position": [0, 5]}]],
+    )
+    generators: list[Generator] = Field(
+        default_factory=list,
+        description="Entries that create many bodies, reproducibly from `seed`; "
+        "their bodies come after the listed ones.",
+        examples=[
+            [
+                {
+                    "name": "rain",
+                    "count": 100,
+                    "shape": {"type": "circle", "radius": {"uniform": [0.1, 0.3]}},
+                    "region": {"min": [-9, 5], "max": [9, 40]},
+                }
+            ]
+        ],
+    )
+    output: Output = Field(
+        default_factory=Output, description="What a run records.", examples=[{"every": 1, "contacts": False}]
+    )
+
+    @model_validator(mode="after")
+    def _default_names(self) -> Scene:
+        for i, body in enumerate(self.bodies):
+            if body.name is None:
+                body.name = f"{body.shape.type}-{i}"
+        for i, generator in enumerate(self.generators):
+            if generator.name is None:
+                generator.name = f"generator-{i}"
+        return self
+
+    def material_of(self, body: Body) -> Material:
+        """The material a body uses (user materials take precedence over presets)."""
+        if isinstance(body.material, Material):
+            return body.material
+        return self.materials.get(body.material) or PRESET_MATERIALS[body.material]
+
+
+def scene_problems(scene: Scene) -> list[Problem]:
+    """Problems that involve more than one field: duplicate names and unknown material names."""
+    problems: list[Problem] = []
+    known = sorted({*PRESET_MATERIALS, *scene.materials})
+
+    def check_material(ref: Any, loc: Loc) -> None:
+        if isinstance(ref, str) and ref not in known:
+            problems.append(
+                (loc, f"unknown material '{ref}'{did_you_mean(ref, known)}; known: {', '.join(known)}")
+            )
+
+    seen: dict[str, int] = {}
+    for i, body in enumerate(scene.bodies):
+        assert body.name is not None
+        if body.name in seen:
+            problems.append(
+                (("bodies", i, "name"), f"duplicate body name '{body.name}' (also body {seen[body.name]})")
+            )
+        seen.setdefault(body.name, i)
+        check_material(body.material, ("bodies", i, "material"))
+    generator_names: dict[str, int] = {}
+    for g, generator in enumerate(scene.generators):
+        assert generator.name is not None
+        if generator.name in generator_names:
+            problems.append((("generators", g, "name"), f"duplicate generator name '{generator.name}'"))
+        generator_names.setdefault(generator.name, g)
+        if isinstance(generator.material, MaterialChoice):
+            for k, ref in enumerate(generator.material.choice):
+                check_material(ref, ("generators", g, "material", "choice", k))
+        else:
+            check_material(generator.material, ("generators", g, "material"))
+    return problems
+
+
+# --------------------------------------------------------------------------------- navigating the types
+
+
+def resolve_annotation(annotation: Any, value: Any) -> Any:
+    """The concrete type that validates `value` at a place typed `annotation` (unions are resolved the way
+    validation resolves them), or None when no member applies."""
+    origin = typing.get_origin(annotation)
+    if origin is Annotated:
+        inner, *metadata = typing.get_args(annotation)
+        for item in metadata:
+            if isinstance(item, Discriminator) and callable(item.discriminator):
+                tag = item.discriminator(value)
+                for member in typing.get_args(inner):
+                    member_meta = getattr(member, "__metadata__", ())
+                    if any(isinstance(m, Tag) and m.tag == tag for m in member_meta):
+                        return resolve_annotation(member, value)
+                return None
+        return resolve_annotation(inner, value)
+    if origin in (typing.Union, types.UnionType):
+        members = [m for m in typing.get_args(annotation) if m is not type(None)]
+        if value is None:
+            return None
+        return resolve_annotation(members[0], value) if len(members) == 1 else None
+    return annotation
+
+
+def model_fields_at(annotation: Any, value: Any) -> dict[str, FieldInfo] | None:
+    """The fields of the model that validates `value` at a place typed `annotation` (None: not a model)."""
+    resolved = resolve_annotation(annotation, value)
+    if isinstance(resolved, type) and issubclass(resolved, BaseModel):
+        return dict(resolved.model_fields)
+    return None
+
+
+def child_annotation(annotation: Any, key: str | int, value: Any) -> Any:
+    """The annotation of `value[key]` where `value` sits at a place typed `annotation`, or None."""
+    resolved = resolve_annotation(annotation, value)
+    fields = model_fields_at(annotation, value)
+    if fields is not None:
+        field = fields.get(str(key))
+        if field is None:
+            return None
+        return Annotated[(field.annotation, *field.metadata)] if field.metadata else field.annotation
+    origin, args = typing.get_origin(resolved), typing.get_args(resolved)
+    if origin is list and isinstance(key, int):
+        return args[0]
+    if origin is dict:
+        return args[1]
+    if origin is tuple and isinstance(key, int) and key < len(args):
+        return args[key]
+    return None
+
+
+def union_tags(annotation: Any) -> list[str]:
+    """The tags a discriminated union accepts (e.g. the shape types at a place), or []."""
+    while typing.get_origin(annotation) in (typing.Union, types.UnionType):
+        members = [m for m in typing.get_args(annotation) if m is not type(None)]
+        if len(members) != 1:
+            break
+        annotation = members[0]
+    if typing.get_origin(annotation) is not Annotated:
+        return []
+    inner = typing.get_args(annotation)[0]
+    return [m.tag for member in typing.get_args(inner) for m in getattr(member, "__metadata__", ())
+            if isinstance(m, Tag)]
