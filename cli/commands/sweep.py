@@ -1,8 +1,72 @@
-"""`rustycs sweep` (not yet implemented)."""
+"""`rustycs sweep`: run a scene over the cartesian product of parameter values."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import typer
 
 NAME = "sweep"
 
 
-def command() -> None:
-    """Not yet implemented."""
-    raise NotImplementedError
+def command(
+    scene: Path = typer.Argument(
+        ..., metavar="SCENE", help="The scene file (.yaml), or a trajectory to repeat.", show_default=False
+    ),
+    params: list[str] = typer.Option(
+        ..., "--param", "-p", metavar="KEY=V1,V2,...", show_default=False,
+        help="A swept key and its values (YAML), or KEY=range(START,STOP,STEP) with STOP excluded. "
+        "Repeat for a grid.",
+    ),
+    sets: list[str] = typer.Option(
+        [], "--set", "-s", metavar="KEY=VALUE",
+        help="A fixed override for every variant (applied before the swept ones).",
+    ),
+    out: Path | None = typer.Option(
+        None, "--out", "-o", metavar="DIR", help="Output folder (default: outputs/<scene name>-sweep/)."
+    ),
+    workers: int | None = typer.Option(
+        None, "--workers", "-w", min=1, help="Local worker processes (default: the number of cores)."
+    ),
+    scheduler: str | None = typer.Option(
+        None, "--scheduler", metavar="ADDRESS",
+        help="Run on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (needs the 'dask' extra, and "
+        "SCENE and DIR on a filesystem the workers share).",
+    ),
+    ticks: int | None = typer.Option(
+        None, "--ticks", "-t", min=0, help="Ticks per variant (default: the scene's)."
+    ),
+    every: int | None = typer.Option(
+        None, "--every", min=1, help="Record every N ticks (default: the scene's)."
+    ),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar and no table."),
+    as_json: bool = typer.Option(
+        False, "--json", help="Print the rows (as in sweep.json) on stdout, nothing else."
+    ),
+) -> None:
+    """Run a scene over a grid of parameter values, one trajectory per variant.
+
+    Every variant is validated first. Each writes DIR/<scene>-<index>-<values>.h5;
+    DIR/sweep.csv and sweep.json hold one row per variant: its swept values (one
+    column per key), status, output file and summary statistics. Variants already
+    complete are skipped, so re-running an interrupted sweep resumes it. Exit 1
+    when a variant fails or diverges (the others still run), 130 when interrupted.
+
+    Example: rustycs sweep scenes/material_bounce.yaml -p world.precision=5,10,20
+    -p 'forces.gravity.acceleration=[0,-9.81],[0,-1.62]' --ticks 600
+    """
+    from rustycs_cli.sweep import default_workers, plan_sweep, run_sweep
+    from rustycs_cli.sweep_report import print_sweep_table, report_problems, variant_progress
+    from rustycs_cli.sweep_values import parse_swept_keys
+
+    plan = plan_sweep(scene, parse_swept_keys(params), sets, out, ticks, every)
+    show = not (quiet or as_json)
+    with variant_progress(not quiet, len(plan.variants), f"sweep {plan.scene_name}") as on_outcome:
+        result = run_sweep(plan, workers or default_workers(), scheduler, on_outcome)
+    if as_json:
+        print(json.dumps(result.rows(), indent=2))
+    elif show:
+        print_sweep_table(result)
+    report_problems(result)
+    raise typer.Exit(result.exit_code)

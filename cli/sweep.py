@@ -1,0 +1,396 @@
+"""Parameter sweeps (`rustycs sweep`): the cartesian product of swept scene keys, one run per variant.
+
+Every variant is validated before any runs, so a typo in one value cannot waste an hour of compute.
+Each variant writes its own trajectory (never two processes in one file), and the sweep tables are
+rewritten atomically at the end; a variant whose trajectory is already complete for the same resolved
+scene is skipped, which makes an interrupted sweep resumable by running the same command again.
+Variants run on local processes, in this process (one worker), or on a Dask cluster through its
+concurrent.futures executor: all three go through `run_variants`, the unit of work.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import math
+import os
+import re
+import signal
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from rustycs_cli.errors import UserError
+from rustycs_cli.sweep_values import SweptKey
+
+if TYPE_CHECKING:
+    from concurrent.futures import Executor, Future
+
+CONNECT_TIMEOUT = 10.0  # seconds to reach a Dask scheduler
+MAX_SLUG = 80
+FAILED = "failed"  # status of a variant that raised instead of finishing a run
+
+
+@dataclass(frozen=True)
+class VariantTask:
+    """Everything a worker needs to run one variant; plain data, so it pickles to any worker."""
+
+    index: int
+    scene: Path
+    overrides: tuple[str, ...]
+    output: Path
+    ticks: int | None = None
+    every: int | None = None
+
+
+@dataclass
+class VariantOutcome:
+    """What became of one variant: its run status, summary statistics, and error if any."""
+
+    index: int
+    status: str
+    summary: dict[str, Any] = field(default_factory=dict)
+    error: str | None = None
+    skipped: bool = False
+
+    @property
+    def failed(self) -> bool:
+        return self.status in (FAILED, "diverged")
+
+
+@dataclass
+class Variant:
+    """One point of the sweep grid, validated: its swept values, task and resolved-scene hash."""
+
+    parameters: dict[str, Any]
+    label: str  # "key=value ..." as the user wrote the values
+    task: VariantTask
+    sha256: str
+    expected_ticks: int
+
+
+@dataclass
+class SweepPlan:
+    """The validated variants of a sweep and where its outputs go."""
+
+    scene_name: str
+    out_dir: Path
+    swept: list[SweptKey]
+    variants: list[Variant]
+
+
+def plan_sweep(
+    scene: Path,
+    swept: list[SweptKey],
+    fixed: Sequence[str] = (),
+    out_dir: Path | None = None,
+    ticks: int | None = None,
+    every: int | None = None,
+) -> SweepPlan:
+    """Build and validate every variant (fixed overrides first, then the swept ones).
+
+    Raises one UserError listing the problems of all invalid variants, before anything runs.
+    """
+    from rustycs_cli.simulation import load_source
+
+    combinations = list(itertools.product(*(key.values for key in swept)))
+    width = len(str(len(combinations) - 1))
+    problems: dict[str, list[str]] = {}
+    variants: list[Variant] = []
+    scene_name = ""
+    for index, values in enumerate(combinations):
+        parameters = {key.key: value.value for key, value in zip(swept, values, strict=True)}
+        overrides = (*fixed, *(f"{key.key}={value.text}" for key, value in zip(swept, values, strict=True)))
+        label = " ".join(f"{key.key}={value.text}" for key, value in zip(swept, values, strict=True))
+        try:
+            loaded = load_source(scene, overrides)
+        except UserError as err:
+            for message in err.messages:
+                problems.setdefault(_as_swept(message, overrides[len(fixed):]), []).append(
+                    f"variant {index}: {label}"
+                )
+            continue
+        scene_name = loaded.scene.name
+        folder = out_dir if out_dir is not None else Path("outputs") / f"{scene_name}-sweep"
+        output = folder / f"{scene_name}-{index:0{width}d}-{_slug(label)}.h5"
+        task = VariantTask(index, scene.resolve(), overrides, output.resolve(), ticks, every)
+        expected = ticks if ticks is not None else loaded.scene.world.ticks
+        variants.append(Variant(parameters, label, task, loaded.sha256, expected))
+    if problems:
+        raise UserError(_name_variants(problems, len(combinations)))
+    return SweepPlan(scene_name, folder, swept, variants)
+
+
+def _slug(text: str) -> str:
+    """A file-name-safe version of `key=value ...` (kept short; the index makes names unique)."""
+    slug = re.sub(r"[^A-Za-z0-9.=+-]+", "_", text).strip("_")
+    return slug[:MAX_SLUG]
+
+
+def _as_swept(message: str, swept: Sequence[str]) -> str:
+    """Say `-p KEY=VALUE` rather than `--set KEY=VALUE` for a problem with a swept value."""
+    for override in swept:
+        if message.startswith(f"--set {override}:"):
+            return f"-p {message.removeprefix('--set ')}"
+    return message
+
+
+def _name_variants(problems: dict[str, list[str]], count: int) -> list[str]:
+    """One line per distinct problem. It names the variants it affects unless it affects all of them
+    (a problem of the scene or a fixed --set) or already names the swept value at fault."""
+    return [
+        message if len(labels) == count or message.startswith("-p ") else f"{message} [{'; '.join(labels)}]"
+        for message, labels in problems.items()
+    ]
+
+
+def finished_outcome(variant: Variant) -> VariantOutcome | None:
+    """The outcome of an earlier complete run of this exact variant, or None when it must run.
+
+    A stored trajectory counts only when its status is complete, its resolved scene hashes the same
+    and it ran the requested number of ticks (and frame interval, when one is forced).
+    """
+    from rustycs_cli.summary import sidecar_path
+    from rustycs_cli.trajectory import open_trajectory
+
+    output = variant.task.output
+    if not output.exists():
+        return None
+    try:
+        with open_trajectory(output) as file:
+            attrs = file["parameters"].attrs
+            stored = {key: attrs.get(key) for key in ("status", "scene_sha256", "ticks_completed", "every")}
+            summary = {key: _plain(value) for key, value in file["parameters/summary"].attrs.items()}
+    except (UserError, OSError, KeyError):  # unreadable or half-written: run it again
+        return None
+    if (
+        _plain(stored["status"]) != "complete"
+        or _plain(stored["scene_sha256"]) != variant.sha256
+        or _plain(stored["ticks_completed"]) != variant.expected_ticks
+        or (variant.task.every is not None and _plain(stored["every"]) != variant.task.every)
+    ):
+        return None
+    sidecar = sidecar_path(output)
+    if sidecar.exists():
+        try:
+            summary = json.loads(sidecar.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            pass
+    return VariantOutcome(variant.task.index, "complete", summary, skipped=True)
+
+
+def _plain(value: Any) -> Any:
+    """An HDF5 attribute as a plain Python value (str for bytes, int/float for numpy scalars)."""
+    if isinstance(value, bytes):
+        return value.decode("utf-8", "replace")
+    return value.item() if hasattr(value, "item") else value
+
+
+def run_variant(task: VariantTask) -> VariantOutcome:
+    """Load and run one variant, turning any failure into an outcome rather than an exception."""
+    from rustycs_cli.simulation import load_source, run_scene
+
+    try:
+        loaded = load_source(task.scene, task.overrides)
+        result = run_scene(loaded, task.output, ticks=task.ticks, every=task.every, quiet=True)
+    except UserError as err:
+        return VariantOutcome(task.index, FAILED, error="; ".join(err.messages))
+    except Exception as err:  # a crashed variant must not stop the others
+        return VariantOutcome(task.index, FAILED, error=f"{type(err).__name__}: {err}")
+    return VariantOutcome(task.index, result.status, dict(result.summary), result.message)
+
+
+def run_variants(tasks: Sequence[VariantTask]) -> list[VariantOutcome]:
+    """Run variants one after another in this process: the unit of work sent to a worker.
+
+    This is the seam for batching: variants that share the same bodies could step together here as
+    one batch of worlds, with the dispatcher sending them as one list.
+    """
+    return [run_variant(task) for task in tasks]
+
+
+def _ignore_sigint() -> None:
+    """Idle pool workers ignore Ctrl-C (the main process handles it); a running variant's own
+    handler still stops its run, which then ends as interrupted."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def dispatch(
+    tasks: Sequence[VariantTask], workers: int, scheduler: str | None = None
+) -> Iterator[VariantOutcome]:
+    """Run the tasks and yield their outcomes as they finish.
+
+    In this process when one worker suffices, otherwise on a local process pool or, with a scheduler
+    address, on a Dask cluster. Stops (cancelling what has not started) when the consumer stops.
+    """
+    if not tasks:
+        return
+    if scheduler is None and min(workers, len(tasks)) == 1:
+        for task in tasks:
+            yield from run_variants([task])
+        return
+    if scheduler is not None:
+        client = _dask_client(scheduler)
+        try:
+            yield from _executor_outcomes(client.get_executor(pure=False), tasks)
+        finally:
+            client.close()
+        return
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    pool = ProcessPoolExecutor(
+        max_workers=min(workers, len(tasks)),
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=_ignore_sigint,
+    )
+    with pool:
+        yield from _executor_outcomes(pool, tasks)
+
+
+def _executor_outcomes(executor: Executor, tasks: Sequence[VariantTask]) -> Iterator[VariantOutcome]:
+    """Submit one unit per task and yield outcomes in completion order; a lost worker is a failure."""
+    from concurrent.futures import as_completed
+
+    futures: dict[Future[list[VariantOutcome]], VariantTask] = {
+        executor.submit(run_variants, [task]): task for task in tasks
+    }
+    try:
+        for future in as_completed(futures):
+            try:
+                yield from future.result()
+            except Exception as err:  # e.g. a worker process killed by the OS
+                yield VariantOutcome(futures[future].index, FAILED, error=f"{type(err).__name__}: {err}")
+    finally:
+        for future in futures:
+            future.cancel()
+
+
+def _dask_client(address: str) -> Any:
+    """Connect to an existing Dask scheduler, with a clear message when that is not possible."""
+    try:
+        from distributed import Client
+    except ImportError:
+        raise UserError(
+            "--scheduler needs the 'distributed' package: pip install 'rustycs[dask]'"
+        ) from None
+    try:
+        return Client(address, timeout=CONNECT_TIMEOUT)
+    except (OSError, TimeoutError, ValueError) as err:
+        raise UserError(f"cannot reach the Dask scheduler at {address}: {err}") from None
+
+
+@dataclass
+class SweepResult:
+    """The rows of a finished (or interrupted) sweep and the exit code they imply."""
+
+    plan: SweepPlan
+    outcomes: dict[int, VariantOutcome]
+    interrupted: bool = False
+
+    def failures(self) -> list[tuple[Variant, VariantOutcome]]:
+        return [(v, self.outcomes[v.task.index]) for v in self.plan.variants
+                if v.task.index in self.outcomes and self.outcomes[v.task.index].failed]
+
+    @property
+    def exit_code(self) -> int:
+        if self.interrupted:
+            return 130
+        return 1 if self.failures() else 0
+
+    def rows(self) -> list[dict[str, Any]]:
+        """One row per variant: index, swept keys, status, output, skipped, error, then the summary."""
+        rows = []
+        for variant in self.plan.variants:
+            outcome = self.outcomes.get(variant.task.index)
+            row: dict[str, Any] = {"index": variant.task.index, **variant.parameters}
+            row["status"] = outcome.status if outcome else "not run"
+            row["output"] = str(variant.task.output)
+            row["skipped"] = bool(outcome and outcome.skipped)
+            row["error"] = outcome.error if outcome else None
+            for key, value in (outcome.summary if outcome else {}).items():
+                row.setdefault(key, value)
+            rows.append(row)
+        return rows
+
+
+def run_sweep(
+    plan: SweepPlan,
+    workers: int,
+    scheduler: str | None = None,
+    on_outcome: Callable[[Variant, VariantOutcome], None] | None = None,
+) -> SweepResult:
+    """Skip finished variants, run the others, write sweep.csv and sweep.json, and return the result.
+
+    Ctrl-C stops the sweep: the tables are still written (unfinished variants as "not run") and
+    the result says interrupted.
+    """
+    by_index = {variant.task.index: variant for variant in plan.variants}
+    result = SweepResult(plan, {})
+    pending = []
+    for variant in plan.variants:
+        outcome = finished_outcome(variant)
+        if outcome is None:
+            pending.append(variant.task)
+        else:
+            _record(result, by_index, outcome, on_outcome)
+    plan.out_dir.mkdir(parents=True, exist_ok=True)
+    try:
+        for outcome in dispatch(pending, workers, scheduler):
+            _record(result, by_index, outcome, on_outcome)
+            if outcome.status == "interrupted":
+                result.interrupted = True
+                break
+    except KeyboardInterrupt:
+        result.interrupted = True
+    write_tables(plan.out_dir, result.rows())
+    return result
+
+
+def _record(
+    result: SweepResult,
+    by_index: dict[int, Variant],
+    outcome: VariantOutcome,
+    on_outcome: Callable[[Variant, VariantOutcome], None] | None,
+) -> None:
+    result.outcomes[outcome.index] = outcome
+    if on_outcome is not None:
+        on_outcome(by_index[outcome.index], outcome)
+
+
+def write_tables(out_dir: Path, rows: list[dict[str, Any]]) -> None:
+    """sweep.json (a list of rows, typed) and sweep.csv (same columns), each written atomically."""
+    import csv
+    import io
+
+    from rustycs_cli.summary import write_text_atomic
+
+    clean = [{key: _finite(value) for key, value in row.items()} for row in rows]
+    write_text_atomic(out_dir / "sweep.json", json.dumps(clean, indent=2) + "\n")
+    columns = list(dict.fromkeys(key for row in clean for key in row))
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=columns, lineterminator="\n")
+    writer.writeheader()
+    for row in clean:
+        writer.writerow({key: _csv_cell(row.get(key)) for key in columns})
+    write_text_atomic(out_dir / "sweep.csv", buffer.getvalue())
+
+
+def _finite(value: Any) -> Any:
+    """Strict JSON: non-finite numbers become null (as in the summary sidecar)."""
+    return None if isinstance(value, float) and not math.isfinite(value) else value
+
+
+def _csv_cell(value: Any) -> str:
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (list, dict)):
+        return json.dumps(value)
+    return str(value)
+
+
+def default_workers() -> int:
+    return os.cpu_count() or 1

@@ -1,0 +1,200 @@
+"""`rustycs sweep`: grids, range(), resume, failing variants, up-front validation and the Dask path."""
+
+from __future__ import annotations
+
+import csv
+import json
+import sys
+from pathlib import Path
+
+import h5py
+import pytest
+from rustycs_cli.errors import UserError
+from rustycs_cli.sweep_values import parse_swept_key, parse_swept_keys
+
+TINY = """\
+name: tiny
+world: {tick_rate: 60, ticks: 20, precision: 4}
+forces:
+  - {name: gravity, acceleration: [0, -9.81]}
+bodies:
+  - {name: floor, type: static, shape: {type: aabb, width: 10, height: 0.5}, position: [0, -0.25]}
+  - {name: ball, shape: {type: circle, radius: 0.2}, position: [0, 0.3], material: rubber}
+  - {name: crate, shape: {type: obb, width: 0.4, height: 0.4}, position: [1, 0.5]}
+"""
+
+
+@pytest.fixture
+def tiny(tmp_path: Path) -> Path:
+    path = tmp_path / "tiny.yaml"
+    path.write_text(TINY)
+    return path
+
+
+def values(option: str) -> list:
+    return [v.value for v in parse_swept_key(option).values]
+
+
+def test_value_lists_and_ranges():
+    assert values("world.precision=range(2,8,2)") == [2, 4, 6]
+    assert values("k=range(3)") == [0, 1, 2]
+    assert values("k=range(5,0,-2)") == [5, 3, 1]
+    assert values("k=range(0,0.5,0.1)") == [0.0, 0.1, 0.2, 0.3, 0.4]  # exact decimals, STOP excluded
+    assert values("k=range(0.5,2)") == [0.5, 1.5]
+    assert values("forces.gravity.acceleration=[0,-9.81],[0,-1.62]") == [[0, -9.81], [0, -1.62]]
+    assert values("m=metal, 'a,b', 1e-3") == ["metal", "a,b", 0.001]
+    assert [v.text for v in parse_swept_key("k=range(0,0.3,0.1)").values] == ["0.0", "0.1", "0.2"]
+
+
+@pytest.mark.parametrize("option, message", [
+    ("k", "expected KEY=V1"), ("k=", "expected KEY=V1"), ("k=range(1,1)", "empty"),
+    ("k=range(0,1,0)", "step must not be 0"), ("k=range(a)", "1 to 3 numbers"), ("k=[1,2", "unbalanced"),
+    ("k=1,,2", "empty value"), ("k=1,1", "listed twice"), ("k=[1,2}", "not valid YAML"),
+])
+def test_bad_values(option, message):
+    with pytest.raises(UserError, match=message):
+        parse_swept_key(option)
+
+
+def test_a_key_swept_twice_is_an_error():
+    with pytest.raises(UserError, match="swept twice"):
+        parse_swept_keys(["a=1,2", "a=3"])
+
+
+def read_rows(out: Path) -> tuple[list[dict], list[dict]]:
+    with open(out / "sweep.csv", newline="") as handle:
+        return json.loads((out / "sweep.json").read_text()), list(csv.DictReader(handle))
+
+
+def test_grid_2x3_with_range_then_resume(cli, tiny, tmp_path, compiled_engine):
+    out = tmp_path / "grid"
+    args = ("sweep", tiny, "-p", "world.precision=range(2,8,2)", "-p", "bodies.ball.material=rubber,metal",
+            "-s", "world.ticks=12", "--out", out)
+    result = cli(*args, "--workers", "2", "--json")
+    assert result.exit_code == 0, result.stderr
+    rows, csv_rows = read_rows(out)
+    assert json.loads(result.stdout) == rows
+    files = sorted(out.glob("*.h5"))
+    assert len(files) == 6 and len(rows) == 6 and len(csv_rows) == 6
+    grid = {(row["world.precision"], row["bodies.ball.material"]) for row in rows}
+    assert grid == {(p, m) for p in (2, 4, 6) for m in ("rubber", "metal")}
+    assert [row["world.precision"] for row in csv_rows] == ["2", "2", "4", "4", "6", "6"]
+    for row in rows:
+        assert row["status"] == "complete" and row["skipped"] is False and row["error"] is None
+        assert row["ticks"] == 12 and row["scene"] == "tiny"
+        path = Path(row["output"])
+        assert path.parent == out and path.name.startswith(f"tiny-{row['index']}-world.precision=")
+        with h5py.File(path) as file:
+            overrides = [o.decode() if isinstance(o, bytes) else o for o in file["parameters/overrides"][()]]
+            assert overrides == ["world.ticks=12", f"world.precision={row['world.precision']}",
+                                 f"bodies.ball.material={row['bodies.ball.material']}"]
+            assert file["parameters"].attrs["precision"] == row["world.precision"]
+            materials = [m.decode() for m in file["particles/bodies/material"][()]]
+            assert materials[1] == row["bodies.ball.material"]
+            assert row["scene_sha256"] == file["parameters"].attrs["scene_sha256"]
+
+    # resume: nothing re-runs; then only a deleted variant does
+    mtimes = {f: f.stat().st_mtime_ns for f in files}
+    again = cli(*args, "--workers", "1", "--json")
+    assert again.exit_code == 0, again.stderr
+    assert all(row["skipped"] and row["status"] == "complete" for row in json.loads(again.stdout))
+    assert {f: f.stat().st_mtime_ns for f in files} == mtimes
+    files[3].unlink()
+    third = cli(*args, "--workers", "1", "--json")
+    rerun = [row["output"] for row in json.loads(third.stdout) if not row["skipped"]]
+    assert third.exit_code == 0 and rerun == [str(files[3])] and files[3].exists()
+    assert all(files[i].stat().st_mtime_ns == mtimes[files[i]] for i in (0, 1, 2, 4, 5))
+
+
+def test_changed_scene_is_not_resumed(cli, tiny, tmp_path, compiled_engine):
+    out = tmp_path / "s"
+    assert cli("sweep", tiny, "-p", "world.precision=3,5", "--out", out, "-w", "1", "-q").exit_code == 0
+    changed = cli("sweep", tiny, "-p", "world.precision=3,5", "-s", "bodies.crate.angle=0.2", "--out", out,
+                  "-w", "1", "--json")
+    assert changed.exit_code == 0
+    assert [row["skipped"] for row in json.loads(changed.stdout)] == [False, False]
+    longer = cli("sweep", tiny, "-p", "world.precision=3,5", "-s", "bodies.crate.angle=0.2", "--out", out,
+                 "-w", "1", "--ticks", "25", "--json")
+    assert [(row["skipped"], row["ticks"]) for row in json.loads(longer.stdout)] == [(False, 25)] * 2
+
+
+def test_diverging_variant_is_reported_while_others_complete(cli, tiny, tmp_path, compiled_engine):
+    out = tmp_path / "div"
+    # dt = 1e306 s: gravity takes the ball's position to -inf in the first tick
+    result = cli("sweep", tiny, "-p", "world.tick_rate=60,1e-306,30", "--out", out, "-w", "2", "--json")
+    assert result.exit_code == 1
+    rows = json.loads(result.stdout)
+    assert [row["status"] for row in rows] == ["complete", "diverged", "complete"]
+    assert "diverged" in rows[1]["error"] and rows[0]["error"] is None
+    assert "variant 1 (world.tick_rate=1e-306) diverged" in result.stderr
+    assert all(Path(row["output"]).exists() for row in rows)
+    # the diverged variant is not complete, so a re-run tries it again and skips the others
+    again = json.loads(cli("sweep", tiny, "-p", "world.tick_rate=60,1e-306,30", "--out", out, "-w", "1",
+                           "--json").stdout)
+    assert [row["skipped"] for row in again] == [True, False, True]
+
+
+def test_crashing_variant_is_recorded(cli, tiny, tmp_path, monkeypatch, compiled_engine):
+    import rustycs_cli.simulation
+
+    real = rustycs_cli.simulation.run_scene
+
+    def crash_on_metal(loaded, out, **kwargs):
+        if "bodies.crate.material=metal" in loaded.overrides:
+            raise RuntimeError("boom")
+        return real(loaded, out, **kwargs)
+
+    monkeypatch.setattr(rustycs_cli.simulation, "run_scene", crash_on_metal)
+    out = tmp_path / "crash"
+    result = cli("sweep", tiny, "-p", "bodies.crate.material=stone,metal,rubber", "--out", out, "-w", "1")
+    assert result.exit_code == 1
+    assert "variant 1 (bodies.crate.material=metal) failed: RuntimeError: boom" in result.stderr
+    rows, csv_rows = read_rows(out)
+    assert [row["status"] for row in rows] == ["complete", "failed", "complete"]
+    assert csv_rows[1]["error"] == "RuntimeError: boom" and csv_rows[0]["error"] == ""
+    assert "failed" in result.stdout  # the table
+
+
+def test_invalid_variants_stop_the_sweep_before_any_run(cli, tiny, tmp_path):
+    out = tmp_path / "bad"
+    result = cli("sweep", tiny, "-p", "world.precision=4,0,-1", "-p", "world.tick_rate=60,120", "--out", out)
+    assert result.exit_code == 2
+    assert "Traceback" not in result.stderr
+    assert result.stderr.strip().splitlines() == [  # one line per distinct problem, naming the value
+        "-p world.precision=0: world.precision: Input should be greater than or equal to 1 (got 0)",
+        "-p world.precision=-1: world.precision: Input should be greater than or equal to 1 (got -1)",
+    ]
+    assert not out.exists()
+    typo = cli("sweep", tiny, "-p", "world.ticks=1,2", "-s", "world.precisoin=3", "--out", out)
+    assert typo.exit_code == 2 and typo.stderr.count("unknown key 'world.precisoin'") == 1
+    clash = cli("sweep", tiny, "-p", "bodies.ball.name=crate,other", "--out", out)  # variant 0 only
+    assert clash.exit_code == 2 and clash.stderr.strip().endswith("[variant 0: bodies.ball.name=crate]")
+    assert cli("sweep", tiny, "-p", "x=range(1,1)").exit_code == 2
+
+
+def test_dask_local_cluster(cli, tiny, tmp_path, compiled_engine):
+    distributed = pytest.importorskip("distributed")
+    out = tmp_path / "dask"
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster:
+        result = cli("sweep", tiny, "-p", "bodies.ball.position=[0,0.3],[0,1]", "--out", out,
+                     "--scheduler", cluster.scheduler_address, "--json")
+    assert result.exit_code == 0, result.stderr
+    rows = json.loads(result.stdout)
+    assert [row["bodies.ball.position"] for row in rows] == [[0, 0.3], [0, 1]]
+    assert [row["status"] for row in rows] == ["complete", "complete"]
+    assert len(list(out.glob("*.h5"))) == 2
+
+
+def test_dask_errors(cli, tiny, tmp_path, monkeypatch):
+    import rustycs_cli.sweep
+
+    monkeypatch.setattr(rustycs_cli.sweep, "CONNECT_TIMEOUT", 0.5)
+    unreachable = cli("sweep", tiny, "-p", "world.precision=3", "--out", tmp_path / "x",
+                      "--scheduler", "tcp://127.0.0.1:9")
+    assert unreachable.exit_code == 2
+    assert "cannot reach the Dask scheduler at tcp://127.0.0.1:9" in unreachable.stderr
+    monkeypatch.setitem(sys.modules, "distributed", None)
+    missing = cli("sweep", tiny, "-p", "world.precision=3", "--out", tmp_path / "x",
+                  "--scheduler", "tcp://127.0.0.1:9")
+    assert missing.exit_code == 2 and "pip install 'rustycs[dask]'" in missing.stderr
