@@ -67,3 +67,29 @@ def five_body_scene(tmp_path: Path) -> Path:
     path = tmp_path / "five.yaml"
     path.write_text(FIVE_BODIES)
     return path
+
+
+@pytest.fixture(scope="session")
+def run_scene(tmp_path_factory: pytest.TempPathFactory, compiled_engine: None) -> Callable[..., Path]:
+    """`rustycs run` on scene text (plus extra arguments), once per distinct input per session; returns
+    the trajectory. For tests that only read trajectories (render, plot)."""
+    from rustycs_cli.app import main
+
+    made: dict[tuple[str, tuple[str, ...]], Path] = {}
+
+    def run(text: str, *args: str) -> Path:
+        if (text, args) not in made:
+            folder = tmp_path_factory.mktemp("run")
+            scene, out = folder / "scene.yaml", folder / "run.h5"
+            scene.write_text(text)
+            with pytest.MonkeyPatch.context() as patch:
+                argv = ["rustycs", "run", str(scene), "--out", str(out), "--quiet", *args]
+                patch.setattr(sys, "argv", argv)
+                try:
+                    main()
+                except SystemExit as done:
+                    assert done.code in (0, None), f"rustycs run failed with exit code {done.code}"
+            made[(text, args)] = out
+        return made[(text, args)]
+
+    return run
