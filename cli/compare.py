@@ -292,8 +292,10 @@ def print_comparison(comparison: Comparison) -> None:
         console.print("[bold green]identical[/] (bitwise)")
         return
     table = Table()
-    for column in ("quantity", "max error", "mean error", "outside tol.", "first tick", "worst bodies"):
-        table.add_column(column, justify="left" if column in ("quantity", "worst bodies") else "right")
+    table.add_column("quantity", no_wrap=True)
+    for column in ("max error", "mean error", "outside", "first tick"):
+        table.add_column(column, justify="right", no_wrap=True)
+    table.add_column("worst bodies")
     for q in comparison.quantities:
         worst_bodies = q.worst_bodies(comparison.body_names)
         worst = ", ".join(f"{b['name']} ({b['max_error']:.3g})" for b in worst_bodies)

@@ -1,4 +1,4 @@
-"""`rustycs compare`: identical files, perturbed copies, tolerances, files that cannot be compared."""
+"""`rustycs compare` on real runs of a tiny scene: identical, perturbed, tolerant, not comparable."""
 
 from __future__ import annotations
 
@@ -12,32 +12,44 @@ import pytest
 from rustycs_cli.compare import NotComparable, compare_trajectories
 from rustycs_cli.errors import UserError
 
+TINY = """\
+name: tiny
+world: {tick_rate: 60, ticks: 60, precision: 4}
+forces:
+  - {name: gravity, acceleration: [0, -9.81]}
+bodies:
+  - {name: floor, type: static, shape: {type: aabb, width: 10, height: 0.5}, position: [0, -0.25]}
+  - {name: ball, shape: {type: circle, radius: 0.2}, position: [0, 0.6], velocity: [1, 0], material: rubber}
+  - {name: crate, shape: {type: obb, width: 0.4, height: 0.4}, position: [1, 0.5], angular_velocity: 2}
+"""
+POSITION = "particles/bodies/position/value"
 
-def fake_trajectory(path: Path, names=("a", "b", "c"), frames: int = 61, dt: float = 1 / 60) -> Path:
-    """A minimal rustycs-shaped trajectory (until `rustycs run` exists)."""
-    rng = np.random.default_rng(0)
-    n = len(names)
-    with h5py.File(path, "w") as f:
-        f.create_group("h5md/creator").attrs["name"] = "rustycs"
-        bodies = f.create_group("particles/bodies")
-        bodies["name"] = np.array(names, dtype=h5py.string_dtype())
-        steps = np.arange(frames, dtype=np.int64)
-        for name, shape in (("position", (2,)), ("velocity", (2,)), ("angle", ()), ("angular_velocity", ())):
-            bodies.create_dataset(f"{name}/value", data=rng.normal(size=(frames, n, *shape)), chunks=True)
-        bodies["active/value"] = np.ones((frames, n), dtype=bool)
-        bodies["position/step"] = steps
-        f.create_group("parameters").attrs["dt"] = dt
-        f["observables/kinetic_energy/value"] = rng.random(frames)
-        f["observables/linear_momentum/value"] = rng.normal(size=(frames, 2))
-    return path
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory: pytest.TempPathFactory, compiled_engine: None) -> dict[str, Path]:
+    """Runs of the tiny scene: twice the same, then with other bodies, another dt, fewer frames."""
+    from rustycs_cli.loading import load_scene
+    from rustycs_cli.simulation import run_scene
+
+    folder = tmp_path_factory.mktemp("runs")
+    scene = folder / "tiny.yaml"
+    scene.write_text(TINY)
+    variants = {
+        "reference": [], "again": [], "renamed": ["bodies.crate.name=box"],
+        "fine_dt": ["world.tick_rate=120"], "short": ["world.ticks=30"],
+    }
+    paths = {}
+    for name, overrides in variants.items():
+        paths[name] = folder / f"{name}.h5"
+        result = run_scene(load_scene(scene, overrides), paths[name], quiet=True)
+        assert result.status == "complete"
+    return paths
 
 
 @pytest.fixture
-def pair(tmp_path: Path) -> tuple[Path, Path]:
-    a = fake_trajectory(tmp_path / "a.h5")
-    b = tmp_path / "b.h5"
-    shutil.copy(a, b)
-    return a, b
+def copy(runs: dict[str, Path], tmp_path: Path) -> Path:
+    """A writable copy of the reference run, to perturb."""
+    return Path(shutil.copy(runs["reference"], tmp_path / "copy.h5"))
 
 
 def perturb(path: Path, dataset: str, index: tuple, delta: float) -> None:
@@ -45,98 +57,88 @@ def perturb(path: Path, dataset: str, index: tuple, delta: float) -> None:
         f[dataset][index] += delta
 
 
-def test_identical(pair):
-    result = compare_trajectories(*pair)
+def quantity(result, name: str):
+    return next(q for q in result.quantities if q.name == name)
+
+
+def test_repeated_run_is_identical(runs):
+    result = compare_trajectories(runs["again"], runs["reference"])
     assert result.identical and result.verdict == "identical" and result.exit_code == 0
+    assert result.frames == 61 and result.body_names == ["floor", "ball", "crate"]
+    assert {q.name for q in result.quantities} >= {
+        "position", "angle", "velocity", "angular_velocity", "active", "kinetic_energy", "linear_momentum"}
 
 
-@pytest.mark.parametrize("block", [None, 7])
-def test_perturbed_at_one_tick(pair, block):
-    a, b = pair
-    perturb(a, "particles/bodies/position/value", (40, 1, 0), 1e-6)
-    result = compare_trajectories(a, b, block_frames=block)
-    assert not result.identical and result.exit_code == 1
-    position = next(q for q in result.quantities if q.name == "position")
-    assert position.outside == 1
-    assert position.first_tick == 40
+@pytest.mark.parametrize("block", [None, 7])  # 7: the difference is found in a later block
+def test_perturbed_at_one_tick(runs, copy, block):
+    perturb(copy, POSITION, (40, 1, 0), 1e-6)
+    result = compare_trajectories(copy, runs["reference"], block_frames=block)
+    assert not result.identical and result.exit_code == 1 and result.verdict == "different"
+    position = quantity(result, "position")
+    assert position.outside == 1 and position.first_tick == 40
     assert position.max_error == pytest.approx(1e-6, rel=1e-6)
     assert position.mean_error == pytest.approx(1e-6 / (61 * 3 * 2), rel=1e-6)
-    assert [w["name"] for w in position.worst_bodies(result.body_names)] == ["b"]
-    others = [q for q in result.quantities if q.name != "position"]
-    assert all(q.outside == 0 and q.max_error == 0 for q in others)
+    assert position.worst_bodies(result.body_names) == [
+        {"name": "ball", "max_error": pytest.approx(1e-6, rel=1e-6), "outside": 1}]
+    assert all(q.outside == 0 and q.max_error == 0 for q in result.quantities if q.name != "position")
 
 
-def test_within_loose_tolerance(pair):
-    a, b = pair
-    perturb(a, "particles/bodies/velocity/value", (10, 0, 1), 1e-6)
-    perturb(a, "observables/kinetic_energy/value", (12,), 1e-6)
-    result = compare_trajectories(a, b, atol=1e-5)
-    assert not result.identical and result.verdict == "within tolerance" and result.exit_code == 0
-    assert compare_trajectories(a, b, atol=1e-7).exit_code == 1
-    rtol = compare_trajectories(a, b, rtol=1e-3)  # relative to values of order 1
-    assert rtol.exit_code == 0
+def test_within_loose_tolerance(runs, copy):
+    perturb(copy, "particles/bodies/velocity/value", (10, 2, 1), 1e-6)
+    perturb(copy, "observables/kinetic_energy/value", (12,), 1e-6)
+    reference = runs["reference"]
+    loose = compare_trajectories(copy, reference, atol=1e-5)
+    assert not loose.identical and loose.verdict == "within tolerance" and loose.exit_code == 0
+    tight = compare_trajectories(copy, reference, atol=1e-7)
+    assert tight.exit_code == 1
+    assert quantity(tight, "velocity").first_tick == 10 and quantity(tight, "kinetic_energy").first_tick == 12
+    assert compare_trajectories(copy, reference, rtol=1e-3).exit_code == 0  # |value| is of order 1
 
 
-def test_angle_difference_is_wrapped(pair):
-    a, b = pair
-    perturb(a, "particles/bodies/angle/value", (5, 2), 2 * np.pi)
-    result = compare_trajectories(a, b, atol=1e-9)
-    angle = next(q for q in result.quantities if q.name == "angle")
-    assert angle.max_error < 1e-9 and result.exit_code == 0
+def test_angle_difference_is_wrapped(runs, copy):
+    perturb(copy, "particles/bodies/angle/value", (5, 2), 2 * np.pi)
+    result = compare_trajectories(copy, runs["reference"], atol=1e-9)
+    assert quantity(result, "angle").max_error < 1e-9 and result.exit_code == 0
 
 
-def test_nan_in_one_file_is_outside_any_tolerance(pair):
-    a, b = pair
-    perturb(a, "particles/bodies/angular_velocity/value", (3, 0), np.nan)
-    result = compare_trajectories(a, b, atol=1e9)
-    q = next(q for q in result.quantities if q.name == "angular_velocity")
+def test_nan_in_one_file_is_outside_any_tolerance(runs, copy):
+    perturb(copy, "particles/bodies/angular_velocity/value", (3, 2), np.nan)
+    result = compare_trajectories(copy, runs["reference"], atol=1e9)
+    q = quantity(result, "angular_velocity")
     assert q.outside == 1 and q.first_tick == 3 and q.max_error == np.inf
     assert result.to_json()["quantities"]["angular_velocity"]["max_error"] == "inf"
 
 
-def test_different_bodies_dt_frames(tmp_path: Path):
-    a = fake_trajectory(tmp_path / "a.h5")
-    with pytest.raises(NotComparable, match="different bodies"):
-        compare_trajectories(a, fake_trajectory(tmp_path / "b.h5", names=("a", "x", "c")))
-    with pytest.raises(NotComparable, match="A has 3 bodies, B has 2"):
-        compare_trajectories(a, fake_trajectory(tmp_path / "c.h5", names=("a", "b")))
-    with pytest.raises(NotComparable, match="time steps"):
-        compare_trajectories(a, fake_trajectory(tmp_path / "d.h5", dt=1 / 120))
-    with pytest.raises(NotComparable, match="different frames"):
-        compare_trajectories(a, fake_trajectory(tmp_path / "e.h5", frames=31))
+def test_not_comparable(runs):
+    reference = runs["reference"]
+    with pytest.raises(NotComparable, match="body 2 is 'box' in A and 'crate' in B"):
+        compare_trajectories(runs["renamed"], reference)
+    with pytest.raises(NotComparable, match="different time steps"):
+        compare_trajectories(runs["fine_dt"], reference)
+    with pytest.raises(NotComparable, match="different frames .A has 31 frames"):
+        compare_trajectories(runs["short"], reference)
 
 
-def test_missing_file(tmp_path: Path):
+def test_missing_file(tmp_path: Path, runs):
     with pytest.raises(UserError, match="no such file"):
-        compare_trajectories(tmp_path / "nope.h5", tmp_path / "nope2.h5")
+        compare_trajectories(tmp_path / "nope.h5", runs["reference"])
 
 
-def run_cli(capsys, *args: str) -> tuple[int, str, str]:
-    """Run `rustycs compare ARGS` through the real entry point; return (exit code, stdout, stderr)."""
-    from rustycs_cli.app import main
-
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr("sys.argv", ["rustycs", "compare", *args])
-        with pytest.raises(SystemExit) as exit_info:
-            main()
-    captured = capsys.readouterr()
-    return exit_info.value.code or 0, captured.out, captured.err
-
-
-def test_cli_exit_codes_and_json(pair, tmp_path: Path, capsys):
-    a, b = pair
-    code, out, _ = run_cli(capsys, str(a), str(b))
-    assert code == 0 and "identical" in out
-    perturb(a, "particles/bodies/position/value", (40, 1, 0), 1e-6)
-    code, out, _ = run_cli(capsys, str(a), str(b), "--json")
-    assert code == 1
-    report = json.loads(out)
+def test_cli_exit_codes_and_json(cli, runs, copy):
+    reference = runs["reference"]
+    same = cli("compare", runs["again"], reference)
+    assert same.exit_code == 0 and "identical" in same.stdout
+    perturb(copy, POSITION, (40, 1, 0), 1e-6)
+    differ = cli("compare", copy, reference, "--json")
+    assert differ.exit_code == 1
+    report = json.loads(differ.stdout)
     assert report["result"] == "different" and report["quantities"]["position"]["first_tick"] == 40
-    assert report["quantities"]["position"]["worst_bodies"][0]["name"] == "b"
-    code, out, _ = run_cli(capsys, str(a), str(b))
-    assert code == 1 and "first at tick 40" in out
-    assert run_cli(capsys, str(a), str(b), "--atol", "1e-3")[0] == 0
-    other = fake_trajectory(tmp_path / "other.h5", names=("x", "y", "z"))
-    code, out, err = run_cli(capsys, str(a), str(other), "--json")
-    assert code == 2 and json.loads(out)["comparable"] is False
-    assert "different bodies" in err and "Traceback" not in err
+    assert report["quantities"]["position"]["worst_bodies"][0]["name"] == "ball"
+    table = cli("compare", copy, reference)
+    assert table.exit_code == 1 and "first at tick 40" in table.stdout and "ball" in table.stdout
+    tolerant = cli("compare", copy, reference, "--atol", "1e-3")
+    assert tolerant.exit_code == 0 and "within tolerance" in tolerant.stdout
+    other = cli("compare", runs["renamed"], reference, "--json")
+    assert other.exit_code == 2 and json.loads(other.stdout)["comparable"] is False
+    assert "different bodies" in other.stderr and "Traceback" not in other.stderr
+    assert cli("compare", copy, reference, "--atol", "-1").exit_code == 2
