@@ -85,7 +85,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
         writer = TrajectoryWriter(
             out, world, names=names, materials=material_names(scene),
             collision_groups=[body.collision_group for body in scene.bodies],
-            attractor_names=[attractor.name for attractor in scene.attractors],
+            attractor_names=[a.name or f"attractor-{k}" for k, a in enumerate(scene.attractors)],
             author="unknown", scene_text=loaded.text, overrides=loaded.overrides,
             contacts=contacts, compress=compress)
         with writer, _progress_bar(progress, ticks, scene.name) as advance:

@@ -182,10 +182,12 @@ def check_output_path(path: Path) -> None:
 
 
 class _Growing:
-    """A dataset growing along its first axis; rows wait in memory until `flush`."""
+    """A dataset growing along its first axis; rows wait in an in-memory buffer until `flush`."""
 
     def __init__(self, group: h5py.Group, name: str, row_shape: tuple[int, ...], dtype: str,
                  chunk_rows: int, options: dict[str, Any], unit: str | None = None):
+        import numpy as np
+
         self.dataset = group.create_dataset(
             name,
             shape=(0, *row_shape),
@@ -196,21 +198,38 @@ class _Growing:
         )
         if unit:
             self.dataset.attrs["unit"] = unit
-        self.pending: list[np.ndarray] = []
+        self.buffer = np.empty((BLOCK_FRAMES, *row_shape), dtype)
+        self.used = 0
 
-    def append(self, rows: np.ndarray) -> None:
-        self.pending.append(rows)
+    def append(self, row: Any) -> None:
+        """Buffer one row."""
+        if self.used == len(self.buffer):
+            self._grow(self.used + 1)
+        self.buffer[self.used] = row
+        self.used += 1
 
-    def flush(self) -> None:
+    def extend(self, rows: np.ndarray) -> None:
+        """Buffer several rows (a frame's contacts)."""
+        end = self.used + len(rows)
+        if end > len(self.buffer):
+            self._grow(end)
+        self.buffer[self.used:end] = rows
+        self.used = end
+
+    def _grow(self, rows: int) -> None:
         import numpy as np
 
-        if not self.pending:
+        bigger = np.empty((max(rows, 2 * len(self.buffer)), *self.buffer.shape[1:]), self.buffer.dtype)
+        bigger[:self.used] = self.buffer[:self.used]
+        self.buffer = bigger
+
+    def flush(self) -> None:
+        if not self.used:
             return
-        rows = np.concatenate(self.pending)
         start = self.dataset.shape[0]
-        self.dataset.resize(start + len(rows), axis=0)
-        self.dataset[start:] = rows
-        self.pending.clear()
+        self.dataset.resize(start + self.used, axis=0)
+        self.dataset[start:] = self.buffer[:self.used]
+        self.used = 0
 
 
 def _chunk_frames(frame_bytes: int) -> int:
@@ -293,7 +312,6 @@ class TrajectoryWriter:
         parameters.create_dataset("overrides", data=np.array(list(overrides), dtype=object), dtype=text)
 
     def _create_series(self, body_count: int, contacts: bool, options: dict[str, Any]) -> None:
-        import numpy as np
 
         file = self._file
         position = file.create_group("particles/bodies/position")
@@ -315,7 +333,7 @@ class TrajectoryWriter:
         if contacts:
             group = file.create_group("contacts")
             self._offset = _Growing(group, "offset", (), "i8", CHUNK_FRAMES * 4, options)
-            self._offset.append(np.zeros(1, "i8"))
+            self._offset.append(0)
             self._contact_rows = 0
             self._contacts = {
                 name: _Growing(group, name, shape, dtype, CONTACT_CHUNK_ROWS, options, unit)
@@ -324,21 +342,20 @@ class TrajectoryWriter:
 
     def append(self, frame: Frame) -> None:
         """Record one frame; every BLOCK_FRAMES frames the buffered block is written to the file."""
-        import numpy as np
 
-        self._step.append(np.array([frame.tick], "i8"))
-        self._time.append(np.array([frame.tick * self.dt], "f8"))
+        self._step.append(frame.tick)
+        self._time.append(frame.tick * self.dt)
         for name, series in self._series.items():
-            series.append(np.asarray(getattr(frame, name))[None])
+            series.append(getattr(frame, name))
         for name, series in self._observables.items():
-            series.append(np.asarray(frame.observables[name])[None])
+            series.append(frame.observables[name])
         if self._contacts is not None:
             if frame.contacts is None:
                 raise ValueError("this trajectory records contacts: capture frames with contacts=True")
             for name, series in self._contacts.items():
-                series.append(np.asarray(frame.contacts[name]))
+                series.extend(frame.contacts[name])
             self._contact_rows += len(frame.contacts["body_a"])
-            self._offset.append(np.array([self._contact_rows], "i8"))
+            self._offset.append(self._contact_rows)
         self.frames += 1
         if self.frames % BLOCK_FRAMES == 0:
             self._flush()
