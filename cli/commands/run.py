@@ -7,6 +7,7 @@ import time
 from pathlib import Path
 
 import typer
+from rustycs_cli.errors import UserError
 
 NAME = "run"
 
@@ -59,7 +60,10 @@ def command(
 def _default_output(name: str, source: Path) -> Path:
     """outputs/<name>.h5, creating outputs/; `-rerun` is appended rather than overwrite the source run."""
     folder = Path("outputs")
-    folder.mkdir(exist_ok=True)
+    try:
+        folder.mkdir(exist_ok=True)
+    except OSError as err:
+        raise UserError(f"{folder}: cannot create the output folder ({err.strerror})") from None
     path = folder / f"{name}.h5"
     if path.exists() and source.exists() and path.samefile(source):
         path = folder / f"{name}-rerun.h5"
