@@ -75,6 +75,8 @@
     cy: 0,
     hover: -1, // body under the mouse
   };
+  const OVERLAYS = ["hitboxes", "contacts", "velocities", "names"];
+  for (const name of OVERLAYS) document.getElementById(name).checked = state[name];
   const stats = { draws: 0, lastDrawMs: 0, maxDrawMs: 0 };
   let width = 1, height = 1, dpr = 1, dirty = true, clock = 0, lastNow = null;
   let mouse = null, drag = null;
@@ -323,10 +325,12 @@
       ctx.font = "11px sans-serif";
       ctx.textAlign = "center";
       ctx.textBaseline = "bottom";
-      for (const i of shown) {
-        const [x0, y0, x1] = screenBox(f, i);
-        ctx.fillText(bodies.names[i], (x0 + x1) / 2, y0 - 2);
+      for (const i of shown) { // above the body; inside it for static (outlined) bodies
+        const [x0, y0, x1, y1] = screenBox(f, i);
+        ctx.textBaseline = isStatic[i] ? "middle" : "bottom";
+        ctx.fillText(bodies.names[i], (x0 + x1) / 2, isStatic[i] ? (y0 + y1) / 2 : y0 - 2);
       }
+      ctx.textBaseline = "bottom";
       for (const attractor of header.attractors) ctx.fillText(attractor.name, sx(attractor.x), sy(attractor.y) - 7);
     }
   }
@@ -370,9 +374,6 @@
     label.textContent = `tick ${header.steps[f]}   t = ${times[f].toFixed(3)} s   frame ${f + 1}/${F}${missing}`;
     scrub.value = String(f);
     playButton.innerHTML = state.playing ? "&#10074;&#10074;" : "&#9654;";
-    for (const name of ["hitboxes", "contacts", "velocities", "names"]) {
-      document.getElementById(name).checked = state[name];
-    }
     dirty = false;
     stats.draws += 1;
     stats.lastDrawMs = performance.now() - started;
@@ -423,6 +424,7 @@
 
   function toggle(name) {
     state[name] = !state[name];
+    document.getElementById(name).checked = state[name];
     dirty = true;
   }
 
@@ -473,7 +475,7 @@
   document.getElementById("fit").addEventListener("click", fit);
   scrub.addEventListener("input", () => setFrame(Number(scrub.value)));
   speedSelect.addEventListener("change", () => setSpeed(speedSelect.selectedIndex));
-  for (const name of Object.values(keys)) {
+  for (const name of OVERLAYS) {
     document.getElementById(name).addEventListener("change", (event) => {
       state[name] = event.target.checked;
       dirty = true;

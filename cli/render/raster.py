@@ -206,11 +206,17 @@ def _velocities(
 def _names(
     draw: ImageDraw.ImageDraw, run: RunInfo, frame: Frame, view: View, boxes: np.ndarray, visible: np.ndarray
 ) -> None:
-    """Each body's name just above its hitbox, and each attractor's above its dot."""
+    """Each body's name above its hitbox (inside it for static bodies), each attractor's above its dot."""
     small = font(11)
     tops = view.to_pixel(np.stack([(boxes[:, 0] + boxes[:, 2]) / 2, boxes[:, 3]], axis=-1))
-    for i, (px, py) in zip(np.flatnonzero(visible), tops, strict=True):
-        draw.text((px, py - 2), run.names[i], fill=colors.TEXT, font=small, anchor="md")
+    middles = view.to_pixel(
+        np.stack([(boxes[:, 0] + boxes[:, 2]) / 2, (boxes[:, 1] + boxes[:, 3]) / 2], axis=-1)
+    )
+    for n, i in enumerate(np.flatnonzero(visible)):
+        if run.types[i] == "static":  # outlined: the name reads inside, clear of what rests on top
+            draw.text(tuple(middles[n]), run.names[i], fill=colors.TEXT, font=small, anchor="mm")
+        else:
+            draw.text((tops[n][0], tops[n][1] - 2), run.names[i], fill=colors.TEXT, font=small, anchor="md")
     for attractor in run.attractors:
         px, py = view.to_pixel(np.asarray(attractor.position))
         draw.text((px, py - 8), attractor.name, fill=colors.TEXT, font=small, anchor="md")

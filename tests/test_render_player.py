@@ -1,0 +1,151 @@
+"""The HTML player made by `rustycs render -o X.html`, driven in headless Chromium (Debian's package)."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+from rustycs_cli.render.colors import BACKGROUND, MATERIAL_COLORS
+
+CHROMIUM = Path("/usr/bin/chromium")
+CHROMIUM_ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+
+
+@pytest.fixture(scope="module")
+def trajectory(run_scene) -> Path:
+    from conftest import FIVE_BODIES  # ball: rubber, r 0.2 at (-2, 0.5); contacts recorded
+
+    return run_scene(FIVE_BODIES)
+
+
+@pytest.fixture(scope="module")
+def browser():
+    sync_api = pytest.importorskip("playwright.sync_api")
+    if not CHROMIUM.exists():
+        pytest.skip("needs Debian's chromium package (/usr/bin/chromium)")
+    with sync_api.sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
+        yield browser
+        browser.close()
+
+
+def open_player(browser, path: Path):
+    """A page showing the player, with its console errors and network requests collected."""
+    page = browser.new_page(viewport={"width": 900, "height": 650})
+    problems: list[str] = []
+    requests: list[str] = []
+    page.on("console", lambda message: problems.append(message.text) if message.type == "error" else None)
+    page.on("pageerror", lambda error: problems.append(str(error)))
+    page.on("request", lambda request: requests.append(request.url))
+    page.goto(path.as_uri())
+    page.wait_for_function("window.player && window.player.ready", timeout=30_000)
+    return page, problems, requests
+
+
+def canvas_rgb(page, world_x: float, world_y: float) -> tuple[int, int, int]:
+    """The canvas colour where world point (x, y) is drawn now."""
+    return tuple(
+        page.evaluate(
+            """([x, y]) => {
+                const [sx, sy] = window.player.worldToScreen(x, y), dpr = window.devicePixelRatio || 1;
+                const ctx = document.getElementById("view").getContext("2d");
+                const pixel = ctx.getImageData(Math.floor(sx * dpr), Math.floor(sy * dpr), 1, 1);
+                return Array.from(pixel.data.slice(0, 3));
+            }""",
+            [world_x, world_y],
+        )
+    )
+
+
+def test_player_draws_plays_steps_and_toggles(cli, browser, trajectory: Path, tmp_path: Path):
+    out = tmp_path / "player.html"
+    result = cli("render", trajectory, "-o", out)
+    assert result.exit_code == 0, result.stderr
+    assert "61 frames" in result.stdout
+    page, problems, requests = open_player(browser, out)
+    player = "window.player"
+    assert page.evaluate(f"{player}.frameCount") == 61 and page.evaluate(f"{player}.bodyCount") == 5
+    state = page.evaluate(f"{player}.state")
+    assert state["frame"] == 0 and state["playing"] is False
+    # frame 0: the rubber ball is drawn red at its centre's projection, the background elsewhere is white
+    assert canvas_rgb(page, -2.0, 0.5 - 0.1) == MATERIAL_COLORS["rubber"]
+    assert canvas_rgb(page, -2.5, 1.5) == BACKGROUND
+
+    page.keyboard.press("ArrowRight")
+    page.keyboard.press("ArrowRight")
+    assert page.evaluate(f"{player}.state.frame") == 2
+    page.keyboard.press("ArrowLeft")
+    assert page.evaluate(f"{player}.state.frame") == 1
+
+    page.keyboard.press(" ")
+    assert page.evaluate(f"{player}.state.playing") is True
+    page.wait_for_function(f"{player}.state.frame > 3", timeout=10_000)
+    page.keyboard.press(" ")
+    assert page.evaluate(f"{player}.state.playing") is False
+    paused_at = page.evaluate(f"{player}.state.frame")
+    page.wait_for_timeout(300)
+    assert page.evaluate(f"{player}.state.frame") == paused_at
+
+    draws = page.evaluate(f"{player}.stats.draws")
+    for key, name in (("h", "hitboxes"), ("c", "contacts"), ("v", "velocities"), ("n", "names")):
+        assert page.evaluate(f"{player}.state.{name}") is False
+        page.keyboard.press(key)
+        assert page.evaluate(f"{player}.state.{name}") is True
+        assert page.evaluate(f"document.getElementById('{name}').checked") is True
+    page.wait_for_function(f"{player}.stats.draws > {draws}", timeout=5_000)  # redrawn with the overlays
+    page.keyboard.press("h")
+    assert page.evaluate(f"{player}.state.hitboxes") is False
+
+    assert problems == []
+    assert requests == [out.as_uri()]  # works offline: nothing fetched but the file itself
+
+
+def test_player_hover_zoom_and_pan(cli, browser, trajectory: Path, tmp_path: Path):
+    out = tmp_path / "player.html"
+    assert cli("render", trajectory, "-o", out, "--tick", "0").exit_code == 0
+    page, problems, _ = open_player(browser, out)
+    x, y = page.evaluate("window.player.worldToScreen(-2, 0.5)")
+    page.mouse.move(x, y)
+    page.wait_for_function("window.player.state.hover >= 0", timeout=5_000)
+    tooltip = page.inner_text("#tooltip")
+    assert tooltip.startswith("ball") and "position" in tooltip and "angular velocity" in tooltip
+    assert re.search(r"-2\.0000, 0\.5000 m", tooltip)
+    scale = page.evaluate("window.player.state.scale")
+    page.mouse.wheel(0, -300)
+    page.wait_for_function(f"window.player.state.scale > {scale}", timeout=5_000)
+    # zooming keeps the point under the cursor in place
+    assert page.evaluate("window.player.worldToScreen(-2, 0.5)") == pytest.approx([x, y], abs=0.5)
+    cx = page.evaluate("window.player.state.cx")
+    page.mouse.move(x, y)
+    page.mouse.down()
+    page.mouse.move(x + 100, y, steps=4)
+    page.mouse.up()
+    assert page.evaluate("window.player.state.cx") < cx  # dragging right moves the view left
+    assert problems == []
+
+
+def test_long_runs_are_thinned_with_a_note(cli, browser, trajectory: Path, tmp_path: Path, monkeypatch):
+    import rustycs_cli.render.player as player_module
+
+    monkeypatch.setattr(player_module, "MAX_FRAMES", 20)
+    out = tmp_path / "thin.html"
+    result = cli("render", trajectory, "-o", out)
+    assert result.exit_code == 0, result.stderr
+    assert "16 frames (every 4)" in result.stdout and "thinned" in result.stderr  # 61 recorded
+    header = json.loads(
+        re.search(r'<script type="application/json" id="rustycs-header">(.*?)</script>', out.read_text())[1]
+    )
+    assert header["every"] == 4 and header["steps"][:3] == [0, 4, 8] and len(header["times"]) == 16
+    page, problems, _ = open_player(browser, out)
+    assert "thinned" in page.inner_text("#note")
+    assert page.evaluate("window.player.frameCount") == 16
+    assert problems == []
