@@ -128,8 +128,8 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
                 "divergence": summary["divergence"],
             }
             writer.finish(parameters, summary)
-    sidecar = sidecar_path(out)
-    write_text_atomic(sidecar, to_json(summary) + "\n")
+        sidecar = sidecar_path(out)
+        write_text_atomic(sidecar, to_json(summary) + "\n")
     return RunResult(out, sidecar, summary, status, EXIT_CODES[status], message)
 
 
