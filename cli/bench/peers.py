@@ -1,0 +1,193 @@
+"""The peer engines, pymunk 7 and Box2D v3 (pyb2d3), building the bodies of a BenchScene.
+
+Settings follow the peer harness (../shared/bench/peers), so that our numbers can be put next to its:
+pymunk: 10 iterations, collision_slop 0.005 m, no sleeping, no damping; pyb2d3: 4 substeps, sleeping
+off, continuous collision at its default, single-threaded. Both engines mix materials like Box2D
+(friction sqrt(f1*f2), restitution max): pymunk multiplies the two shapes' coefficients, so each shape
+gets sqrt(friction) and static shapes elasticity 1 (the scenes' statics have restitution 0, so the
+product equals Box2D's max). Attractors are applied from Python before every step, as the harness does.
+
+Each adapter offers `step` (one tick, no adapter layer in between) and `poses()` ((x, y, angle) of
+every body origin, in scene order).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Callable
+from typing import Any
+
+from rustycs_cli.bench.spec import BenchScene, BodySpec
+
+PYMUNK_ITERATIONS = 10
+PYMUNK_COLLISION_SLOP = 0.005
+B2_SUBSTEPS = 4
+ENGINES = ("pymunk", "pyb2d3")
+
+
+def missing() -> list[str]:
+    """The peer modules that cannot be imported (install them with the `bench` extra)."""
+    import importlib.util
+
+    return [name for name in ENGINES if importlib.util.find_spec(name) is None]
+
+
+def versions() -> dict[str, str]:
+    """Installed version of each peer engine."""
+    from importlib.metadata import version
+
+    return {name: version(name) for name in ENGINES}
+
+
+def build(engine: str, scene: BenchScene) -> PymunkWorld | Box2DWorld:
+    """The peer world of `engine` ("pymunk" or "pyb2d3") holding the scene's bodies."""
+    return {"pymunk": PymunkWorld, "pyb2d3": Box2DWorld}[engine](scene)
+
+
+def _world_vertices(spec: BodySpec) -> list[tuple[float, float]]:
+    c, s = math.cos(spec.angle), math.sin(spec.angle)
+    x, y = spec.position
+    return [(x + c * vx - s * vy, y + s * vx + c * vy) for vx, vy in spec.vertices]
+
+
+def _central_force(bodies: list[tuple[Any, float]], attractor: tuple[float, float, float],
+                   position: Callable[[Any], tuple[float, float]],
+                   apply: Callable[[Any, tuple[float, float]], None]) -> Callable[[], None]:
+    """The harness's force loop: F = -G*M*m r/|r|^3 towards the attractor, set before each step."""
+    ax, ay, gm = attractor
+    sqrt = math.sqrt
+
+    def step_forces() -> None:
+        for body, m in bodies:
+            x, y = position(body)
+            dx, dy = x - ax, y - ay
+            r2 = dx * dx + dy * dy
+            k = -gm * m / (r2 * sqrt(r2))
+            apply(body, (k * dx, k * dy))
+
+    return step_forces
+
+
+def _with_forces(step: Callable[[], None], forces: list[Callable[[], None]]) -> Callable[[], None]:
+    if not forces:
+        return step
+
+    def step_with_forces() -> None:
+        for force in forces:
+            force()
+        step()
+
+    return step_with_forces
+
+
+class PymunkWorld:
+    """The scene in a pymunk Space."""
+
+    def __init__(self, scene: BenchScene):
+        import pymunk
+
+        space = pymunk.Space()
+        space.gravity = scene.gravity
+        space.iterations = PYMUNK_ITERATIONS
+        space.collision_slop = PYMUNK_COLLISION_SLOP
+        self.space = space
+        self.bodies: list[Any] = []
+        for spec in scene.bodies:
+            self.bodies.append(self._add(pymunk, spec))
+        moving = [(b, b.mass) for b, spec in zip(self.bodies, scene.bodies, strict=True)
+                  if spec.body_type == "dynamic"]
+
+        def position(body: Any) -> tuple[float, float]:
+            return body.position
+
+        def apply(body: Any, force: tuple[float, float]) -> None:
+            body.force = force  # world frame, at the centre of gravity; pymunk clears it after the step
+
+        forces = [_central_force(moving, a, position, apply) for a in scene.attractors]
+        self.step = _with_forces(functools.partial(space.step, scene.dt), forces)
+
+    def _add(self, pymunk: Any, spec: BodySpec) -> Any:
+        static = spec.body_type == "static"
+        if static:  # like the harness: shapes on the space's static body, in world coordinates
+            body = self.space.static_body
+            if spec.kind == "circle":
+                shape = pymunk.Circle(body, spec.radius, offset=spec.position)
+            else:
+                shape = pymunk.Poly(body, _world_vertices(spec))
+        else:
+            if spec.body_type == "kinematic":
+                body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+            elif spec.kind == "aabb":  # rotation locked; a box is centred on its origin
+                body = pymunk.Body(spec.mass, math.inf)
+            else:
+                body = pymunk.Body()
+            body.position = spec.position
+            body.angle = spec.angle
+            body.velocity = spec.velocity
+            body.angular_velocity = spec.angular_velocity
+            shape = (pymunk.Circle(body, spec.radius) if spec.kind == "circle"
+                     else pymunk.Poly(body, list(spec.vertices), radius=0.0))
+            if spec.body_type == "dynamic" and spec.kind != "aabb":
+                shape.mass = spec.mass  # centre of gravity and moment follow from the shape
+        shape.friction = math.sqrt(spec.friction)
+        shape.elasticity = 1.0 if static else spec.restitution
+        # Box2D: equal negative group never collides; pymunk: equal non-zero group.
+        shape.filter = pymunk.ShapeFilter(group=spec.group) if spec.group else pymunk.ShapeFilter()
+        if static:
+            self.space.add(shape)
+        else:
+            self.space.add(body, shape)
+        return body
+
+    def poses(self) -> list[tuple[float, float, float]]:
+        return [(b.position.x, b.position.y, b.angle) for b in self.bodies]
+
+
+class Box2DWorld:
+    """The scene in a Box2D v3 world (pyb2d3)."""
+
+    def __init__(self, scene: BenchScene):
+        import pyb2d3 as b2
+
+        world = b2.World(gravity=scene.gravity)
+        world.sleeping_enabled = False
+        self.world = world
+        self.bodies = [self._add(b2, spec) for spec in scene.bodies]
+        moving = [(b, b.mass) for b, spec in zip(self.bodies, scene.bodies, strict=True)
+                  if spec.body_type == "dynamic"]
+
+        def position(body: Any) -> tuple[float, float]:
+            p = body.position
+            return p.x, p.y
+
+        def apply(body: Any, force: tuple[float, float]) -> None:
+            body.apply_force_to_center(force, True)
+
+        forces = [_central_force(moving, a, position, apply) for a in scene.attractors]
+        self.step = _with_forces(functools.partial(world.step, scene.dt, B2_SUBSTEPS), forces)
+
+    def _add(self, b2: Any, spec: BodySpec) -> Any:
+        kinds = {"static": b2.BodyType.STATIC, "dynamic": b2.BodyType.DYNAMIC,
+                 "kinematic": b2.BodyType.KINEMATIC}
+        body = self.world.create_body(b2.body_def(
+            type=kinds[spec.body_type], position=spec.position, rotation=b2.make_rot(spec.angle),
+            linear_velocity=spec.velocity, angular_velocity=spec.angular_velocity, enable_sleep=False,
+            fixed_rotation=spec.kind == "aabb"))
+        density = spec.mass / spec.area if spec.body_type == "dynamic" else 0.0
+        shape = b2.shape_def(density=density, material=b2.surface_material(
+            friction=spec.friction, restitution=spec.restitution))
+        if spec.group:  # Box2D needs a negative group to never collide: map each group to its own one
+            shape.filter = b2.make_filter(group_index=-2 * abs(spec.group) + (spec.group < 0))
+        if spec.kind == "circle":
+            body.create_circle_shape(shape, b2.circle(radius=spec.radius))
+        else:
+            body.create_polygon_shape(shape, b2.polygon(points=list(spec.vertices)))
+        return body
+
+    def poses(self) -> list[tuple[float, float, float]]:
+        out = []
+        for body in self.bodies:
+            p = body.position
+            out.append((p.x, p.y, body.angle))
+        return out

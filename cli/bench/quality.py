@@ -1,0 +1,153 @@
+"""Quality beside speed: the same measures for every engine, computed from initial and final poses.
+
+Fast is worth little if the pyramid creeps or the pile sinks into itself, so each scene reports what
+it stresses: the worst box displacement of the pyramids, the deepest overlap and the escaped bodies of
+the container scenes, the orbit radius drift under the attractor. Overlaps are measured geometrically
+(separating axes on the final shapes), not taken from any engine's own contact data.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from rustycs_cli.bench.spec import BenchScene, BodySpec
+
+# Which measures each scene reports (scaling scenes are circles in a container).
+METRICS: dict[str, tuple[str, ...]] = {
+    "S1": (),
+    "S2": ("max_displacement",),
+    "S3": ("max_displacement",),
+    "S4": ("max_overlap", "escaped"),
+    "S5": ("max_overlap", "escaped"),
+    "S6": ("mean_radius_drift", "max_radius_drift"),
+    "scaling": ("max_overlap", "escaped"),
+}
+
+
+def measure(metrics: tuple[str, ...] | list[str], scene: BenchScene, start: np.ndarray, end: np.ndarray,
+            active: np.ndarray | None = None) -> dict[str, float]:
+    """The named measures; `start`/`end` are (N, 3) poses (origin x, y, angle) in body order, `active`
+    marks the bodies still simulated (rustycs deactivates bodies that leave the world's bounds)."""
+    moving = np.array([b.body_type == "dynamic" for b in scene.bodies], dtype=bool)
+    alive = np.ones(len(moving), dtype=bool) if active is None else np.asarray(active, dtype=bool)
+    out: dict[str, float] = {}
+    for name in metrics:
+        if name == "max_displacement":
+            out[name] = float(np.hypot(*(end[moving, :2] - start[moving, :2]).T).max(initial=0.0))
+        elif name == "max_overlap":
+            out[name] = deepest_overlap(scene, end, alive)
+        elif name == "escaped":
+            out[name] = escaped(scene, end, alive)
+        elif name in ("mean_radius_drift", "max_radius_drift"):
+            drift = radius_drift(scene, start[moving], end[moving])
+            out[name] = float(drift.mean() if name.startswith("mean") else drift.max(initial=0.0))
+        else:
+            raise ValueError(f"unknown quality measure {name!r}")
+    return out
+
+
+def radius_drift(scene: BenchScene, start: np.ndarray, end: np.ndarray) -> np.ndarray:
+    """|r_end / r_start - 1| per body, r measured from the first attractor."""
+    centre = np.array(scene.attractors[0][:2]) if scene.attractors else np.zeros(2)
+    r0 = np.hypot(*(start[:, :2] - centre).T)
+    r1 = np.hypot(*(end[:, :2] - centre).T)
+    return np.abs(r1 / r0 - 1.0)
+
+
+def escaped(scene: BenchScene, poses: np.ndarray, active: np.ndarray) -> int:
+    """Dynamic bodies whose origin left the container: below the middle of the lowest static body, or
+    (with statics side by side) beyond the middle of the outermost one; deactivated bodies count too."""
+    statics = np.array([b.position for b in scene.bodies if b.body_type == "static"]).reshape(-1, 2)
+    moving = np.array([b.body_type == "dynamic" for b in scene.bodies], dtype=bool)
+    out = ~active
+    if len(statics):
+        x, y = poses[:, 0], poses[:, 1]
+        out = out | (y < statics[:, 1].min())
+        if statics[:, 0].max() > statics[:, 0].min():
+            out = out | (x < statics[:, 0].min()) | (x > statics[:, 0].max())
+    return int((out & moving).sum())
+
+
+def deepest_overlap(scene: BenchScene, poses: np.ndarray, active: np.ndarray) -> float:
+    """The largest penetration depth between two shapes that may collide, m (0 when none overlap)."""
+    specs = scene.bodies
+    poses = poses.copy()
+    for i, spec in enumerate(specs):  # statics do not move (and some engines share one static body)
+        if spec.body_type == "static":
+            poses[i] = (*spec.position, spec.angle)
+    shapes = [_world_shape(spec, poses[i]) for i, spec in enumerate(specs)]
+    lo = np.array([s[0] for s in shapes])
+    hi = np.array([s[1] for s in shapes])
+    a, b = _overlapping_boxes(lo, hi)
+    groups = np.array([s.group for s in specs])
+    moving = np.array([s.body_type != "static" for s in specs])
+    keep = active[a] & active[b] & (moving[a] | moving[b]) & ~((groups[a] == groups[b]) & (groups[a] != 0))
+    a, b = a[keep], b[keep]
+    radius = np.array([s.radius if s.kind == "circle" else -1.0 for s in specs])
+    both_circles = (radius[a] > 0) & (radius[b] > 0)
+    worst = 0.0
+    if both_circles.any():
+        ca, cb = a[both_circles], b[both_circles]
+        d = np.hypot(*(poses[ca, :2] - poses[cb, :2]).T)
+        worst = max(worst, float((radius[ca] + radius[cb] - d).max()))
+    for i, j in zip(a[~both_circles], b[~both_circles], strict=True):
+        worst = max(worst, _sat_depth(shapes[i][2], shapes[j][2]))
+    return max(worst, 0.0)
+
+
+def _world_shape(spec: BodySpec, pose: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple]:
+    """(box min, box max, geometry): geometry is ("circle", centre, r) or ("poly", world vertices)."""
+    x, y, angle = pose
+    if spec.kind == "circle":
+        centre = np.array([x, y])
+        return centre - spec.radius, centre + spec.radius, ("circle", centre, spec.radius)
+    c, s = math.cos(angle), math.sin(angle)
+    local = np.array(spec.vertices)
+    verts = local @ np.array([[c, s], [-s, c]]) + (x, y)
+    return verts.min(axis=0), verts.max(axis=0), ("poly", verts)
+
+
+def _overlapping_boxes(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """All pairs (a < b by sweep order) whose bounding boxes overlap: sort and sweep along x."""
+    order = np.argsort(lo[:, 0], kind="stable")
+    lo, hi = lo[order], hi[order]
+    n = len(order)
+    ends = np.searchsorted(lo[:, 0], hi[:, 0], side="right")
+    counts = np.maximum(ends - np.arange(n) - 1, 0)
+    first = np.repeat(np.arange(n), counts)
+    offsets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    second = first + 1 + offsets
+    touch = (lo[second, 1] <= hi[first, 1]) & (lo[first, 1] <= hi[second, 1])
+    return order[first[touch]], order[second[touch]]
+
+
+def _axes(verts: np.ndarray) -> np.ndarray:
+    edges = np.roll(verts, -1, axis=0) - verts
+    normals = np.stack([edges[:, 1], -edges[:, 0]], axis=1)
+    return normals / np.linalg.norm(normals, axis=1)[:, None]
+
+
+def _sat_depth(first: tuple, second: tuple) -> float:
+    """Penetration depth of two convex shapes (at least one polygon): the smallest overlap of their
+    projections over the separating-axis candidates (<= 0 when apart)."""
+    if first[0] == "circle":
+        first, second = second, first
+    verts = first[1]
+    axes = _axes(verts)
+    if second[0] == "circle":
+        centre, r = second[1], second[2]
+        nearest = verts[np.argmin(np.hypot(*(verts - centre).T))]
+        towards = centre - nearest
+        length = math.hypot(*towards)
+        if length > 0:
+            axes = np.vstack([axes, towards / length])
+        p = verts @ axes.T
+        q = centre @ axes.T
+        overlap = np.minimum(p.max(axis=0) - (q - r), (q + r) - p.min(axis=0))
+    else:
+        axes = np.vstack([axes, _axes(second[1])])
+        p = verts @ axes.T
+        q = second[1] @ axes.T
+        overlap = np.minimum(p.max(axis=0) - q.min(axis=0), q.max(axis=0) - p.min(axis=0))
+    return float(overlap.min())

@@ -1,0 +1,151 @@
+"""The whole benchmark: compile and start-up times, the scenes S1..S6 in every engine, the scaling
+series; repetitions interleaved (rep by rep, engine by engine) so that slow phases of a noisy machine
+hit every engine alike. Results are a plain dict, ready for JSON and the report."""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import platform
+import statistics
+import subprocess
+import tempfile
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from rustycs_cli.bench import runner
+from rustycs_cli.bench.quality import METRICS
+from rustycs_cli.bench.scenes import SCALING_SIZES, SCALING_TICKS, scaling_ref
+
+PEER_SETTINGS = {
+    "pymunk": "iterations 10, collision_slop 0.005, no sleeping",
+    "pyb2d3": "4 substeps, sleeping off, continuous on, single-threaded",
+}
+
+
+@dataclass(frozen=True)
+class Plan:
+    """What to measure."""
+
+    scenes: dict[str, Path]  # id -> scene file
+    engines: tuple[str, ...]  # "rustycs" first, then the peers
+    reps: int
+    max_ticks: int | None
+    block: int
+    compile: bool
+    scaling: bool
+    command: str
+
+
+def run(plan: Plan, progress: Callable[[str], None]) -> dict[str, Any]:
+    """Measure everything in `plan`; `progress` gets one line per measurement."""
+    began = time.time()
+    result: dict[str, Any] = {"meta": _meta(plan)}
+    if plan.compile:
+        result["compile"] = _compile_times(plan.reps, progress)
+    result["scenes"] = _series(plan, [(sid, str(path), METRICS[sid]) for sid, path in plan.scenes.items()],
+                               progress)
+    if plan.scaling:
+        refs = [(str(n), scaling_ref(n), METRICS["scaling"]) for n in SCALING_SIZES]
+        limited = plan.max_ticks if plan.max_ticks is not None else SCALING_TICKS
+        result["scaling"] = _series(dataclasses.replace(plan, max_ticks=limited), refs, progress)
+    result["meta"]["wall_s"] = round(time.time() - began, 1)
+    return result
+
+
+def failures(result: dict[str, Any]) -> list[str]:
+    """One line per measurement that did not complete."""
+    out = []
+    for series in ("scenes", "scaling"):
+        for key, row in result.get(series, {}).items():
+            for engine, cell in row["engines"].items():
+                out.extend(f"{key} {engine}: {error}" for error in cell["errors"])
+    return out
+
+
+def _series(plan: Plan, items: list[tuple[str, str, tuple[str, ...]]],
+            progress: Callable[[str], None]) -> dict[str, Any]:
+    rows: dict[str, Any] = {}
+    for rep in range(plan.reps):
+        for key, ref, metrics in items:
+            row = rows.setdefault(key, {"engines": {}})
+            for engine in plan.engines:
+                run = runner.measure_steps(engine, ref, plan.max_ticks, plan.block, metrics)
+                cell = row["engines"].setdefault(engine, {"ms_per_tick": [], "errors": []})
+                if "error" in run:
+                    cell["errors"].append(run["error"])
+                    progress(f"rep {rep + 1} {key:5} {engine:8} failed: {run['error']}")
+                    continue
+                cell["ms_per_tick"].append(run["ms_per_tick"])
+                cell.setdefault("quality", run["quality"])
+                row.update(name=run["scene"], bodies=run["bodies"], ticks=run["ticks"])
+                progress(f"rep {rep + 1} {key:5} {engine:8} {run['ms_per_tick']:9.4f} ms/tick")
+    for row in rows.values():
+        for cell in row["engines"].values():
+            times = cell["ms_per_tick"]
+            cell["median_ms"] = statistics.median(times) if times else None
+            cell["min_ms"] = min(times) if times else None
+        own = row["engines"].get("rustycs", {}).get("median_ms")
+        row["ratios"] = {engine: own / cell["median_ms"] for engine, cell in row["engines"].items()
+                         if engine != "rustycs" and own is not None and cell["median_ms"]}
+    return rows
+
+
+def _compile_times(reps: int, progress: Callable[[str], None]) -> dict[str, Any]:
+    """Cold: first step with an empty kernel cache (once, it takes a while); warm: with the cache that
+    run filled; start-up: `rustycs --help`."""
+    with tempfile.TemporaryDirectory(prefix="rustycs-bench-cache-") as cache:
+        cold = runner.measure_first_step(Path(cache))
+        progress(f"compile cold: {cold.get('first_step_s', cold.get('error'))}")
+        warm = [runner.measure_first_step(Path(cache)) for _ in range(reps)]
+    startup = [runner.measure_startup() for _ in range(max(reps, 3))]
+    progress(f"start-up: {statistics.median(startup):.3f} s")
+    ok = [w for w in warm if "error" not in w]
+    errors = [r["error"] for r in (cold, *warm) if "error" in r]
+    return {
+        "cold_s": cold.get("first_step_s"),
+        "warm_s": statistics.median(w["first_step_s"] for w in ok) if ok else None,
+        "import_s": statistics.median(w["import_s"] for w in ok) if ok else None,
+        "startup_s": statistics.median(startup),
+        "errors": errors,
+    }
+
+
+def _meta(plan: Plan) -> dict[str, Any]:
+    from rustycs_cli.bench import peers
+
+    import rustycs
+
+    versions = {"rustycs": rustycs.__version__, "commit": _git_commit()}
+    if len(plan.engines) > 1:
+        versions.update(peers.versions())
+    return {
+        "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "cpu": _cpu_model(), "cores": os.cpu_count(),
+        "platform": platform.platform(), "python": platform.python_version(), "command": plan.command,
+        "reps": plan.reps, "max_ticks": plan.max_ticks, "block": plan.block, "versions": versions,
+        "peer_settings": {e: PEER_SETTINGS[e] for e in plan.engines if e in PEER_SETTINGS},
+    }
+
+
+def _cpu_model() -> str:
+    try:
+        out = subprocess.run(["lscpu"], capture_output=True, text=True).stdout
+    except OSError:
+        out = ""
+    for line in out.splitlines():
+        if line.startswith("Model name:"):
+            return line.split(":", 1)[1].strip()
+    return platform.processor() or "unknown"
+
+
+def _git_commit() -> str | None:
+    """The commit of the measured engine, when it runs from a git checkout."""
+    try:
+        done = subprocess.run(["git", "describe", "--always", "--dirty"], capture_output=True, text=True,
+                              cwd=Path(__file__).resolve().parent)
+    except OSError:
+        return None
+    return done.stdout.strip() or None

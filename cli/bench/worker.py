@@ -1,0 +1,116 @@
+"""One measurement in a fresh process, printed as one JSON line on stdout (run by bench.runner).
+
+    python -m rustycs_cli.bench.worker step ENGINE SCENE [--max-ticks N] [--block N] [--metrics a,b]
+    python -m rustycs_cli.bench.worker first-step
+
+`step` builds SCENE (a scene file, or `scaling:N`) in ENGINE (rustycs, pymunk or pyb2d3) and times
+only the stepping: building, compiling and reading state back are outside the clock. rustycs steps in
+blocks of `--block` ticks (world.step(n) runs a block in compiled code), the peers one Python call per
+tick, with the attractor force set from Python before each, as the peer harness does. `first-step`
+times importing rustycs and its first step (compiling the kernels, or loading them from the cache).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from typing import Any
+
+import numpy as np
+
+ENGINES = ("rustycs", "pymunk", "pyb2d3")
+
+
+def load(ref: str) -> Any:
+    """The LoadedScene of a scene file or of `scaling:N`."""
+    from rustycs_cli.bench.scenes import SCALING_PREFIX, scaling_scene_text
+    from rustycs_cli.loading import load_scene, load_scene_text
+
+    if ref.startswith(SCALING_PREFIX):
+        count = int(ref[len(SCALING_PREFIX):])
+        return load_scene_text(scaling_scene_text(count), ref)
+    return load_scene(ref)
+
+
+def step(engine: str, ref: str, max_ticks: int | None, block: int, metrics: list[str]) -> dict[str, Any]:
+    """Time the scene's ticks (at most `max_ticks`) in `engine`; report ms per tick and the quality
+    measures."""
+    from rustycs_cli.bench import peers, quality
+    from rustycs_cli.bench.spec import describe
+    from rustycs_cli.build import build_world
+
+    scene = load(ref).scene
+    ticks = scene.world.ticks if max_ticks is None else min(max_ticks, scene.world.ticks)
+    began = time.perf_counter()
+    world = build_world(scene)
+    bench = describe(scene, world)
+    start = np.column_stack([world.positions, world.angles])
+    perf = time.perf_counter
+    if engine == "rustycs":
+        from rustycs_cli.simulation import warm_up
+
+        warm_up()  # compiling or loading the kernels is not stepping
+        build_s = perf() - began
+        elapsed = 0.0
+        done = 0
+        while done < ticks:
+            count = min(block, ticks - done)
+            t0 = perf()
+            world.step(count)
+            elapsed += perf() - t0
+            done += count
+        end = np.column_stack([world.positions, world.angles])
+        active = world.active
+    else:
+        peer = peers.build(engine, bench)
+        build_s = perf() - began
+        tick = peer.step
+        t0 = perf()
+        for _ in range(ticks):
+            tick()
+        elapsed = perf() - t0
+        end = np.array(peer.poses(), dtype=np.float64).reshape(-1, 3)
+        active = None
+    moving = sum(b.body_type == "dynamic" for b in bench.bodies)
+    return dict(engine=engine, scene=scene.name, bodies=moving, ticks=ticks,
+                block=block if engine == "rustycs" else 1, seconds=elapsed,
+                ms_per_tick=1e3 * elapsed / max(ticks, 1), build_s=build_s,
+                quality=quality.measure(metrics, bench, start, end, active))
+
+
+def first_step() -> dict[str, float]:
+    """Seconds to import rustycs and to run its first step (compile, or load the cached kernels)."""
+    t0 = time.perf_counter()
+    import rustycs  # noqa: F401
+
+    t1 = time.perf_counter()
+    from rustycs_cli.simulation import warm_up
+
+    warm_up()
+    return dict(import_s=t1 - t0, first_step_s=time.perf_counter() - t1)
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(prog="python -m rustycs_cli.bench.worker", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = parser.add_subparsers(dest="mode", required=True)
+    timed = sub.add_parser("step")
+    timed.add_argument("engine", choices=ENGINES)
+    timed.add_argument("scene")
+    timed.add_argument("--max-ticks", type=int)
+    timed.add_argument("--block", type=int, default=100)
+    timed.add_argument("--metrics", default="")
+    sub.add_parser("first-step")
+    args = parser.parse_args(argv)
+    if args.mode == "step":
+        metrics = [m for m in args.metrics.split(",") if m]
+        result: dict[str, Any] = step(args.engine, args.scene, args.max_ticks, args.block, metrics)
+    else:
+        result = first_step()
+    sys.stdout.write(json.dumps(result) + "\n")
+
+
+if __name__ == "__main__":
+    main()
