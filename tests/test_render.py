@@ -203,3 +203,11 @@ def test_missing_foreign_and_non_hdf5_files_exit_2(cli, tmp_path: Path):
 def test_unknown_output_type_exit_2(cli, trajectory: Path, tmp_path: Path):
     result = cli("render", trajectory, "-o", tmp_path / "x.jpg")
     assert result.exit_code == 2 and ".png, .gif, .mp4, .html" in result.stderr
+
+
+def test_contacts_overlay_without_recorded_contacts_is_a_note(cli, run_scene, tmp_path: Path):
+    quiet_run = run_scene(SCENE, "--no-contacts")
+    out = tmp_path / "frame.png"
+    result = cli("render", quiet_run, "-o", out, "--contacts")
+    assert result.exit_code == 0 and out.is_file()
+    assert "no contact points were recorded" in result.stderr

@@ -14,9 +14,9 @@ def command(
     out: Path = typer.Option(..., "-o", "--out", help="Output figure: .png (or .pdf, .svg)."),
     title: str = typer.Option(None, "--title", help="Figure title (default: the number of runs)."),
 ) -> None:
-    """Plot observables over time: kinetic, potential and total energy, energy drift, linear and angular
-    momentum, contact count and maximum penetration. Several runs are overlaid, one colour each, to
-    compare a sweep.
+    """Plot observables over time: energies, energy drift, momentum, contact count, max penetration.
+
+    Several runs are overlaid, one colour each, to compare a sweep.
 
     Example: rustycs plot outputs/sweep/*.h5 -o sweep.png
     """

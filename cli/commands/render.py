@@ -38,10 +38,11 @@ def command(
 ) -> None:
     """Draw a run: one frame (.png), an animation (.gif, .mp4) or an interactive player (.html).
 
-    Bodies are coloured by material (rubber red, plastic green, stone grey, metal dark grey, default
-    black, others a colour of their own), static bodies outlined, +y up on a metre grid. The player
-    works offline: space plays/pauses, arrows step, H/C/V/N toggle hitboxes, contacts, velocities
-    and names, the wheel zooms and dragging pans. Prints the view used (metres).
+    Colours by material (rubber red, plastic green, stone grey, metal dark grey, default black).
+
+    Static bodies are outlined; +y is up, on a metre grid. Prints the view used (metres).
+
+    The .html player works offline: Space plays, arrows step, H/C/V/N toggle the overlays, wheel zooms.
 
     Example: rustycs render outputs/material-bounce.h5 -o bounce.gif --every 2 --velocities
     """
