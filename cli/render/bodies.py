@@ -17,11 +17,10 @@ BODIES = "particles/bodies"
 
 @dataclass(frozen=True)
 class Attractor:
-    """A fixed point that pulls bodies; `range` is inf for a global attractor."""
+    """A fixed point that pulls bodies, as drawn: `range` is inf for a global attractor."""
 
     name: str
     position: tuple[float, float]
-    mass: float
     range: float
 
 
@@ -126,12 +125,9 @@ def _attractors(file: h5py.File) -> list[Attractor]:
     positions = np.asarray(group["position"], dtype=np.float64).reshape(-1, 2)
     count = len(positions)
     names = _strings(group, "name") if "name" in group else [f"attractor-{i}" for i in range(count)]
-    mass = np.asarray(group["mass"], dtype=np.float64) if "mass" in group else np.zeros(count)
     ranges = np.asarray(group["range"], dtype=np.float64) if "range" in group else np.full(count, np.inf)
     return [
-        Attractor(
-            names[i], (float(positions[i, 0]), float(positions[i, 1])), float(mass[i]), float(ranges[i])
-        )
+        Attractor(names[i], (float(positions[i, 0]), float(positions[i, 1])), float(ranges[i]))
         for i in range(count)
     ]
 

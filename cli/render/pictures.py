@@ -66,7 +66,8 @@ def render(request: RenderRequest) -> RenderResult:
     box = parse_box(request.view) if request.view is not None else None
     with open_trajectory(request.run) as file:
         run = load_run(file, str(request.run))
-        view = make_view(box or fit_box(file, run), width, height)
+        box = box or fit_box(file, run)
+        view = make_view(box, width, height)
         notes = []
         if request.overlays.contacts and not run.has_contacts:
             notes.append(
@@ -81,7 +82,7 @@ def render(request: RenderRequest) -> RenderResult:
 
             start = 0 if request.tick is None else run.frame_of_tick(request.tick)
             with atomic_output(request.out) as temporary:
-                shown = write_player(temporary, file, run, view.box, start, request.every, request.overlays)
+                shown = write_player(temporary, file, run, box, start, request.every, request.overlays)
             return RenderResult(request.out, shown.frames, shown.every, view, notes + shown.notes)
         every, more_notes = _animation_every(run, request, view, suffix)
         frames = range(0, run.frame_count, every)
@@ -124,7 +125,7 @@ def _animation_every(run: RunInfo, request: RenderRequest, view: View, suffix: s
             f"{view.width}x{view.height} GIF (at most {limit}); use --every {needed} or more, a smaller "
             "--size, or an .mp4"
         )
-    return needed, [f"GIF thinned to every {needed}th recorded frame (at most {limit} frames at this size)"]
+    return needed, [f"GIF thinned to one recorded frame in {needed} (at most {limit} frames at this size)"]
 
 
 def _write_animation(

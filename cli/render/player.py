@@ -83,7 +83,7 @@ def _stride(run: RunInfo, every: int | None, offsets: np.ndarray | None) -> tupl
         return asked, ""
     shown = math.ceil(run.frame_count / needed)
     return needed, (
-        f"Long run thinned: every {needed}th recorded frame is shown ({shown} of {run.frame_count}), "
+        f"Long run thinned: one recorded frame in {needed} is shown ({shown} of {run.frame_count}), "
         f"to keep the player under {MAX_FRAMES} frames and {MAX_BYTES // 1_000_000} MB."
     )
 
