@@ -240,7 +240,8 @@ class _Locator:
         body = self.bodies[index]["name"]
         rest = self._relative_path(self.data["generators"][generator], loc[2:])
         problem = self.problem(("generators", generator, *rest), f"generated body '{body}': {message}")
-        return dataclasses.replace(problem, key=f"{generator} {rest} {message}")
+        same = message.split(" (got ")[0]  # the same problem with another drawn value is reported once
+        return dataclasses.replace(problem, key=f"{generator} {rest} {same}")
 
     def _data_path(self, loc: Loc) -> Loc:
         """The part of `loc` that exists in the data, with union tags left out."""

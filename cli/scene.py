@@ -560,7 +560,7 @@ class RandomPolygon(_Model):
             raise PydanticCustomError(
                 "vertex_count",
                 f"the vertex count must be a whole number from 3 to {MAX_VERTICES}: a number, "
-                "{{uniform_int: [lo, hi]}} or {{choice: [...]}}",
+                "{uniform_int: [lo, hi]} or {choice: [...]}",
                 {},
             )
         return spec
@@ -740,7 +740,7 @@ class Generator(_Model):
                     {"at": "count"},
                 )
         elif self.count is None:
-            raise PydanticCustomError("missing", "missing key 'count'", {})
+            raise PydanticCustomError("count_required", "missing key 'count'", {})
         return self
 
 

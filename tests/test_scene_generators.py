@@ -1,0 +1,244 @@
+"""Generators: deterministic per seed and per generator name, the distributions, shapes and layouts."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+from rustycs_cli.errors import UserError
+from rustycs_cli.loading import load_scene, load_scene_text
+from rustycs_cli.scene import Body, Circle, Material, Polygon, polygon_problem
+
+HEAD = """\
+seed: 5
+bodies:
+  - {name: floor, type: static, shape: {type: aabb, width: 20, height: 1}, position: [0, -0.5]}
+generators:
+"""
+RAIN = """\
+  - name: rain
+    count: 20
+    shape: {type: circle, radius: {uniform: [0.1, 0.3]}}
+    region: {min: [-9, 5], max: [9, 40]}
+    material: {choice: [rubber, plastic, stone, metal]}
+"""
+ROCKS = """\
+  - name: rocks
+    count: 10
+    shape: {type: random_polygon, vertices: {uniform_int: [3, 8]}, radius: {uniform: [0.2, 0.5]}}
+    region: {min: [-5, 1], max: [5, 3]}
+    angle: {uniform: [-3.14, 3.14]}
+"""
+TWO_GENERATORS = HEAD + RAIN + ROCKS
+
+
+def generated(text: str, *overrides: str, seed: int | None = None) -> list[Body]:
+    """The bodies of a scene (generated ones included)."""
+    return load_scene_text(text, "gen.yaml", overrides, seed).scene.bodies
+
+
+def by_prefix(bodies: list[Body], prefix: str) -> list[Body]:
+    return [b for b in bodies if b.name is not None and b.name.startswith(prefix)]
+
+
+def test_generated_bodies_follow_the_listed_ones_with_their_names() -> None:
+    bodies = generated(TWO_GENERATORS)
+    assert [b.name for b in bodies] == ["floor"] + [f"rain-{i}" for i in range(20)] + [
+        f"rocks-{i}" for i in range(10)
+    ]
+
+
+def test_same_seed_gives_identical_bodies_different_seed_differs() -> None:
+    first, again = generated(TWO_GENERATORS), generated(TWO_GENERATORS)
+    assert first == again
+    other = generated(TWO_GENERATORS, seed=6)
+    assert [b.position for b in other[1:]] != [b.position for b in first[1:]]
+    assert generated(TWO_GENERATORS, "seed=6") == other
+
+
+def test_changing_one_generator_leaves_the_other_unchanged() -> None:
+    base = generated(TWO_GENERATORS)
+    changed = generated(TWO_GENERATORS, "generators.rocks.count=3", "generators.rocks.angle={normal: [0, 1]}")
+    assert by_prefix(changed, "rain") == by_prefix(base, "rain")
+    assert len(by_prefix(changed, "rocks")) == 3
+    # a generator's numbers come from its name, not its place in the list
+    reordered = generated(HEAD + ROCKS + RAIN)
+    assert by_prefix(reordered, "rain") == by_prefix(base, "rain")
+    assert by_prefix(reordered, "rocks") == by_prefix(base, "rocks")
+
+
+def test_changing_one_field_leaves_the_other_fields_draws_unchanged() -> None:
+    base = by_prefix(generated(TWO_GENERATORS), "rain")
+    changed = by_prefix(
+        generated(TWO_GENERATORS, "generators.rain.shape.radius={normal: [0.2, 0.01]}"), "rain"
+    )
+    assert [b.position for b in changed] == [b.position for b in base]
+    assert [b.material for b in changed] == [b.material for b in base]
+    assert [b.shape for b in changed] != [b.shape for b in base]
+
+
+def test_draws_are_pinned() -> None:
+    """The same scene gives the same bodies on every machine and numpy version: pinned values."""
+    body = generated(TWO_GENERATORS)[1]
+    assert body.position == (7.34781510330432, 6.663616187153162)
+    assert isinstance(body.shape, Circle) and body.shape.radius == 0.10820139787742658
+
+
+def test_distributions() -> None:
+    text = """\
+generators:
+  - name: g
+    count: 4000
+    shape: {type: circle, radius: {uniform: [0.1, 0.3]}}
+    region: {min: [0, 0], max: [1000, 1000]}
+    angle: {normal: [1.0, 0.5]}
+    angular_velocity: {uniform_int: [-2, 2]}
+    velocity: [{choice: [1, 2.5]}, 3]
+    mass: {uniform: [1, 1]}
+    material: {choice: [metal, {density: 2, restitution: 0, friction: 1}]}
+"""
+    bodies = generated(text)
+    radii = [b.shape.radius for b in bodies]
+    assert 0.1 <= min(radii) < 0.101 and 0.299 < max(radii) < 0.3
+    angles = [b.angle for b in bodies]
+    mean = sum(angles) / len(angles)
+    std = math.sqrt(sum((a - mean) ** 2 for a in angles) / len(angles))
+    assert abs(mean - 1.0) < 0.03 and abs(std - 0.5) < 0.03
+    assert sorted({b.angular_velocity for b in bodies}) == [-2, -1, 0, 1, 2]
+    assert {b.velocity for b in bodies} == {(1.0, 3.0), (2.5, 3.0)}
+    assert {b.mass for b in bodies} == {1.0}
+    assert {str(b.material) for b in bodies} == {"metal", str(Material(density=2, restitution=0, friction=1))}
+    assert all(0 <= b.position[0] < 1000 and 0 <= b.position[1] < 1000 for b in bodies)
+
+
+def test_random_polygons_are_convex_and_inscribed() -> None:
+    bodies = by_prefix(generated(TWO_GENERATORS, "generators.rocks.count=200"), "rocks")
+    counts = set()
+    for body in bodies:
+        assert isinstance(body.shape, Polygon)
+        vertices = body.shape.vertices
+        counts.add(len(vertices))
+        assert polygon_problem(vertices) is None
+        radii = [math.hypot(x, y) for x, y in vertices]
+        assert max(radii) - min(radii) < 1e-12 and 0.2 <= radii[0] <= 0.5
+    assert counts == set(range(3, 9))
+
+
+def test_shape_choice_and_body_type_choice() -> None:
+    text = """\
+generators:
+  - count: 300
+    type: {choice: [dynamic, static]}
+    shape: {choice: [{type: circle, radius: 0.1}, {type: obb, width: 1, height: 2}, {type: polygon,
+            vertices: [[0, 0], [1, 0], [0, 1]]}]}
+    region: {min: [0, 0], max: [10, 10]}
+"""
+    bodies = generated(text)
+    assert {b.shape.type for b in bodies} == {"circle", "obb", "polygon"}
+    assert {b.type for b in bodies} == {"dynamic", "static"}
+    assert bodies[0].name == "generator-0-0"
+
+
+def test_layouts() -> None:
+    text = """\
+generators:
+  - name: pyramid
+    shape: {type: obb, width: 1, height: 1}
+    layout: {pyramid: {base: 3, origin: [0, 0.5], spacing: [1, 1]}}
+  - name: stack
+    count: 3
+    shape: {type: aabb, width: 1, height: 0.5}
+    layout: {stack: {origin: [5, 0.25], spacing: 0.5}}
+  - name: grid
+    count: 5
+    shape: {type: circle, radius: 0.1}
+    layout: {grid: {origin: [-10, 1], columns: 2, spacing: [0.5, 0.25]}}
+  - name: jittered
+    count: 100
+    shape: {type: circle, radius: 0.1}
+    layout: {grid: {origin: [0, 0], columns: 10, spacing: [1, 1], jitter: [0.1, 0.2]}}
+"""
+    bodies = generated(text)
+    assert [b.position for b in by_prefix(bodies, "pyramid")] == [
+        (-1, 0.5),
+        (0, 0.5),
+        (1, 0.5),
+        (-0.5, 1.5),
+        (0.5, 1.5),
+        (0, 2.5),
+    ]
+    assert [b.position for b in by_prefix(bodies, "stack")] == [(5, 0.25), (5, 0.75), (5, 1.25)]
+    assert [b.position for b in by_prefix(bodies, "grid")] == [
+        (-10, 1),
+        (-9.5, 1),
+        (-10, 1.25),
+        (-9.5, 1.25),
+        (-10, 1.5),
+    ]
+    for k, body in enumerate(by_prefix(bodies, "jittered")):
+        row, column = divmod(k, 10)
+        assert abs(body.position[0] - column) <= 0.1 and abs(body.position[1] - row) <= 0.2
+    partial = generated(text.replace("layout: {pyramid", "count: 4\n    layout: {pyramid"))
+    assert len(by_prefix(partial, "pyramid")) == 4
+
+
+@pytest.mark.parametrize(
+    ("generator", "expected"),
+    [
+        (
+            "{name: g, count: 2, shape: {type: circle, radius: 1}}",
+            "3:5: generators.g: a generator needs either a region or a layout",
+        ),
+        (
+            "{name: g, count: 2, shape: {type: circle, radius: 1}, region: {min: [0, 0], max: [1, 1]},\n"
+            "     layout: {stack: {origin: [0, 0], spacing: 1}}}",
+            "3:5: generators.g: a generator needs either",
+        ),
+        (
+            "{name: g, count: 7, shape: {type: circle, radius: 1}, "
+            "layout: {pyramid: {base: 2, origin: [0, 0],\n"
+            "     spacing: [1, 1]}}}",
+            "3:22: generators.g.count: a pyramid of base 2 holds 3 bodies",
+        ),
+        (
+            "{name: g, shape: {type: circle, radius: 1}, region: {min: [0, 0], max: [1, 1]}}",
+            "3:5: generators.g: missing key 'count'",
+        ),
+        (
+            "{name: g, count: 1, shape: {type: random_polygon, vertices: {uniform: [3, 8]}, radius: 1},\n"
+            "     region: {min: [0, 0], max: [1, 1]}}",
+            "3:65: generators.g.shape.vertices: the vertex count must be",
+        ),
+        (
+            "{name: g, count: 1, shape: {type: circle, radius: {unifrom: [1, 2]}}, "
+            "region: {min: [0, 0], max: [1, 1]}}",
+            "3:56: generators.g.shape.radius.unifrom: unknown key 'unifrom' (did you mean 'uniform'?)",
+        ),
+        (
+            "{name: g, count: 1, shape: {type: circle, radius: {uniform: [2, 1]}}, "
+            "region: {min: [0, 0], max: [1, 1]}}",
+            "3:65: generators.g.shape.radius.uniform: lo must not exceed hi",
+        ),
+        (
+            "{name: g, count: 1, shape: {type: circle, radius: 1}, region: {min: [0, 0], max: [1, 1]},\n"
+            "     material: {choice: [rubber, stne]}}",
+            "4:34: generators.g.material.choice.1: unknown material 'stne' (did you mean 'stone'?)",
+        ),
+        (
+            "{name: g, count: 50, shape: {type: circle, radius: {normal: [0.1, 0.2]}}, "
+            "region: {min: [0, 0],\n"
+            "     max: [1, 1]}}",
+            "3:56: generators.g.shape.radius: generated body 'g-",
+        ),
+    ],
+)
+def test_generator_problems_are_reported_at_the_generator(
+    tmp_path: Path, generator: str, expected: str
+) -> None:
+    path = tmp_path / "gen.yaml"
+    path.write_text(f"seed: 0\ngenerators:\n  - {generator}\n")
+    with pytest.raises(UserError) as raised:
+        load_scene(path)
+    assert len(raised.value.messages) == 1
+    assert raised.value.messages[0].startswith(f"{path}:{expected}")
