@@ -9,7 +9,6 @@ from __future__ import annotations
 import sys
 
 import typer
-
 from rustycs_cli.commands import bench, compare, info, plot, render, run, schema, sweep, validate
 from rustycs_cli.errors import UserError
 
@@ -34,3 +33,6 @@ def main() -> None:
         for message in err.messages:
             print(message, file=sys.stderr)
         sys.exit(err.exit_code)
+    except KeyboardInterrupt:
+        print("rustycs: interrupted", file=sys.stderr)
+        sys.exit(130)

@@ -22,6 +22,12 @@ def _overlap(hitbox, i, j):
 
 
 @njit(cache=True)
+def _cell(value, origin, inv_cell, count):
+    """Grid index of a coordinate, clamped in floating point so that far bodies cannot overflow."""
+    return int(min(max((value - origin) * inv_cell, 0.0), count - 1.0))
+
+
+@njit(cache=True)
 def find_pairs(hitbox, inv_mass, active, group):
     """Return candidate pairs (P, 2), a < b, sorted, with at least one dynamic body each."""
     n = hitbox.shape[0]
@@ -45,14 +51,16 @@ def find_pairs(hitbox, inv_mass, active, group):
         hi_x = max(hi_x, hitbox[i, 2])
         hi_y = max(hi_y, hitbox[i, 3])
         extents[k] = max(hitbox[i, 2] - hitbox[i, 0], hitbox[i, 3] - hitbox[i, 1])
-    cell = max(np.median(extents), 1e-9)
     width = hi_x - lo_x
     height = hi_y - lo_y
-    max_cells = 4 * nd + 16
-    while (math.floor(width / cell) + 1) * (math.floor(height / cell) + 1) > max_cells:
+    if not (math.isfinite(width) and math.isfinite(height)):
+        return np.empty((0, 2), dtype=np.int64)  # a non-finite state: the step reports it
+    cell = max(np.median(extents), 1e-9)
+    max_cells = 4.0 * nd + 16.0
+    while (width / cell + 1.0) * (height / cell + 1.0) > max_cells:
         cell *= 1.5
-    nx = int(math.floor(width / cell)) + 1
-    ny = int(math.floor(height / cell)) + 1
+    nx = int(width / cell) + 1
+    ny = int(height / cell) + 1
     inv_cell = 1.0 / cell
 
     # cell ranges of every active body that touches the domain
@@ -61,12 +69,13 @@ def find_pairs(hitbox, inv_mass, active, group):
     for i in range(n):
         if not active[i]:
             continue
-        if hitbox[i, 2] < lo_x or hitbox[i, 0] > hi_x or hitbox[i, 3] < lo_y or hitbox[i, 1] > hi_y:
-            continue
-        x0 = min(max(int(math.floor((hitbox[i, 0] - lo_x) * inv_cell)), 0), nx - 1)
-        y0 = min(max(int(math.floor((hitbox[i, 1] - lo_y) * inv_cell)), 0), ny - 1)
-        x1 = min(max(int(math.floor((hitbox[i, 2] - lo_x) * inv_cell)), 0), nx - 1)
-        y1 = min(max(int(math.floor((hitbox[i, 3] - lo_y) * inv_cell)), 0), ny - 1)
+        inside = hitbox[i, 2] >= lo_x and hitbox[i, 0] <= hi_x
+        if not (inside and hitbox[i, 3] >= lo_y and hitbox[i, 1] <= hi_y):
+            continue  # outside the domain (or not finite)
+        x0 = _cell(hitbox[i, 0], lo_x, inv_cell, nx)
+        y0 = _cell(hitbox[i, 1], lo_y, inv_cell, ny)
+        x1 = _cell(hitbox[i, 2], lo_x, inv_cell, nx)
+        y1 = _cell(hitbox[i, 3], lo_y, inv_cell, ny)
         ranges[i, 0] = x0
         ranges[i, 1] = y0
         ranges[i, 2] = x1

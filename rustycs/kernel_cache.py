@@ -45,8 +45,16 @@ def _modules() -> set[str]:
     return {os.path.splitext(os.path.basename(p))[0] for p in glob.glob(os.path.join(_HERE, "*.py"))}
 
 
+_checked = False
+
+
 def ensure_fresh() -> None:
-    """Remove cached kernels compiled from other engine sources than the present ones."""
+    """Remove cached kernels compiled from other engine sources than the present ones (once per
+    process: the sources do not change under a running program)."""
+    global _checked
+    if _checked:
+        return
+    _checked = True
     current = sources_hash()
     for directory in _cache_dirs():
         stamp = os.path.join(directory, _STAMP)
