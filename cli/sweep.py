@@ -10,13 +10,16 @@ concurrent.futures executor: all three go through `run_variants`, the unit of wo
 
 from __future__ import annotations
 
+import functools
 import itertools
 import json
 import math
 import os
 import re
 import signal
+import threading
 from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -212,59 +215,108 @@ def run_variants(tasks: Sequence[VariantTask]) -> list[VariantOutcome]:
 
 def _ignore_sigint() -> None:
     """Idle pool workers ignore Ctrl-C (the main process handles it); a running variant's own
-    handler still stops its run, which then ends as interrupted."""
+    handler still stops its run, which then ends as interrupted with its frames kept."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
+def _interrupt_pool_workers() -> None:
+    """Ask the running variants of the process pool to stop (as Ctrl-C in a terminal does)."""
+    import multiprocessing
+
+    for child in multiprocessing.active_children():
+        if child.pid is not None:
+            os.kill(child.pid, signal.SIGINT)
+
+
 def dispatch(
-    tasks: Sequence[VariantTask], workers: int, scheduler: str | None = None
-) -> Iterator[VariantOutcome]:
-    """Run the tasks and yield their outcomes as they finish.
+    tasks: Sequence[VariantTask],
+    record: Callable[[VariantOutcome], None],
+    workers: int,
+    scheduler: str | None = None,
+) -> bool:
+    """Run the tasks, passing each outcome to `record` as it arrives; True when interrupted.
 
     In this process when one worker suffices, otherwise on a local process pool or, with a scheduler
-    address, on a Dask cluster. Stops (cancelling what has not started) when the consumer stops.
+    address, on a Dask cluster. The sweep stops at Ctrl-C or at the first interrupted variant.
     """
     if not tasks:
-        return
+        return False
     if scheduler is None and min(workers, len(tasks)) == 1:
         for task in tasks:
-            yield from run_variants([task])
-        return
+            for outcome in run_variants([task]):
+                record(outcome)
+                if outcome.status == "interrupted":
+                    return True
+        return False
     if scheduler is not None:
         client = _dask_client(scheduler)
+        executor = client.get_executor(pure=False)
         try:
-            yield from _executor_outcomes(client.get_executor(pure=False), tasks)
+            # the scheduler spreads the tasks; running ones cannot be stopped, only dropped
+            stop = functools.partial(executor.shutdown, wait=False)
+            return _run_on_executor(executor, tasks, record, len(tasks), stop)
         finally:
             client.close()
-        return
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    pool = ProcessPoolExecutor(
-        max_workers=min(workers, len(tasks)),
-        mp_context=multiprocessing.get_context("spawn"),
-        initializer=_ignore_sigint,
-    )
-    with pool:
-        yield from _executor_outcomes(pool, tasks)
+    window = min(workers, len(tasks))
+    context = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(window, mp_context=context, initializer=_ignore_sigint) as pool:
+        return _run_on_executor(pool, tasks, record, window, _interrupt_pool_workers)
 
 
-def _executor_outcomes(executor: Executor, tasks: Sequence[VariantTask]) -> Iterator[VariantOutcome]:
-    """Submit one unit per task and yield outcomes in completion order; a lost worker is a failure."""
-    from concurrent.futures import as_completed
+def _run_on_executor(
+    executor: Executor,
+    tasks: Sequence[VariantTask],
+    record: Callable[[VariantOutcome], None],
+    window: int,
+    interrupt: Callable[[], None],
+) -> bool:
+    """Keep `window` variants in flight, record outcomes in completion order; True when interrupted.
 
-    futures: dict[Future[list[VariantOutcome]], VariantTask] = {
-        executor.submit(run_variants, [task]): task for task in tasks
-    }
+    Only as many variants as can run are submitted, so that after Ctrl-C nothing queued starts: the
+    running ones are interrupted (their outcomes recorded when they come back) and the rest never run.
+    """
+    from concurrent.futures import FIRST_COMPLETED, wait
+
+    pending = iter(tasks)
+    running: dict[Future[list[VariantOutcome]], VariantTask] = {}
+    interrupted = False
+
+    def collect(future: Future[list[VariantOutcome]]) -> None:
+        nonlocal interrupted
+        for outcome in _outcomes(future, running.pop(future)):
+            record(outcome)
+            interrupted |= outcome.status == "interrupted"
+
     try:
-        for future in as_completed(futures):
-            try:
-                yield from future.result()
-            except Exception as err:  # e.g. a worker process killed by the OS
-                yield VariantOutcome(futures[future].index, FAILED, error=f"{type(err).__name__}: {err}")
-    finally:
-        for future in futures:
-            future.cancel()
+        while not interrupted:
+            while len(running) < window and (task := next(pending, None)) is not None:
+                running[executor.submit(run_variants, [task])] = task
+            if not running:
+                return False
+            done, _ = wait(running, return_when=FIRST_COMPLETED)
+            for future in done:
+                collect(future)
+    except KeyboardInterrupt:
+        interrupted = True
+    interrupt()
+    for future in list(running):
+        collect(future)
+    return True
+
+
+def _outcomes(future: Future[list[VariantOutcome]], task: VariantTask) -> list[VariantOutcome]:
+    """A finished unit's outcomes; a lost worker is a failure, a cancelled unit has none."""
+    from concurrent.futures import CancelledError
+
+    try:
+        return future.result()
+    except CancelledError:
+        return []
+    except Exception as err:  # e.g. a worker process killed by the OS
+        return [VariantOutcome(task.index, FAILED, error=f"{type(err).__name__}: {err}")]
 
 
 def _dask_client(address: str) -> Any:
@@ -323,8 +375,9 @@ def run_sweep(
 ) -> SweepResult:
     """Skip finished variants, run the others, write sweep.csv and sweep.json, and return the result.
 
-    Ctrl-C stops the sweep: the tables are still written (unfinished variants as "not run") and
-    the result says interrupted.
+    Ctrl-C or SIGTERM stops the sweep: running variants end as interrupted (their frames kept), the
+    tables are still written (variants that never started as "not run") and the result says
+    interrupted.
     """
     by_index = {variant.task.index: variant for variant in plan.variants}
     result = SweepResult(plan, {})
@@ -337,15 +390,32 @@ def run_sweep(
             _record(result, by_index, outcome, on_outcome)
     plan.out_dir.mkdir(parents=True, exist_ok=True)
     try:
-        for outcome in dispatch(pending, workers, scheduler):
-            _record(result, by_index, outcome, on_outcome)
-            if outcome.status == "interrupted":
-                result.interrupted = True
-                break
-    except KeyboardInterrupt:
+        with _terminate_as_interrupt():
+            result.interrupted = dispatch(
+                pending, lambda outcome: _record(result, by_index, outcome, on_outcome), workers, scheduler
+            )
+    except KeyboardInterrupt:  # between two variants run in this process
         result.interrupted = True
     write_tables(plan.out_dir, result.rows())
     return result
+
+
+@contextmanager
+def _terminate_as_interrupt() -> Iterator[None]:
+    """While active, SIGTERM stops the sweep the way Ctrl-C does (in the main thread only, where
+    signals can be caught), so that a batch system's kill still leaves valid tables."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def interrupt(_signum: int, _frame: object) -> None:
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 def _record(

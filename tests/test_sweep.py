@@ -4,7 +4,11 @@ from __future__ import annotations
 
 import csv
 import json
+import os
+import signal
+import subprocess
 import sys
+import time
 from pathlib import Path
 
 import h5py
@@ -198,3 +202,57 @@ def test_dask_errors(cli, tiny, tmp_path, monkeypatch):
     missing = cli("sweep", tiny, "-p", "world.precision=3", "--out", tmp_path / "x",
                   "--scheduler", "tcp://127.0.0.1:9")
     assert missing.exit_code == 2 and "pip install 'rustycs[dask]'" in missing.stderr
+
+
+def test_keyboard_interrupt_between_variants_then_resume(cli, tiny, tmp_path, monkeypatch, compiled_engine):
+    import rustycs_cli.simulation
+
+    real = rustycs_cli.simulation.run_scene
+
+    def ctrl_c_before_variant_1(loaded, out, **kwargs):
+        if "world.precision=5" in loaded.overrides:
+            raise KeyboardInterrupt
+        return real(loaded, out, **kwargs)
+
+    monkeypatch.setattr(rustycs_cli.simulation, "run_scene", ctrl_c_before_variant_1)
+    out = tmp_path / "ctrl-c"
+    args = ("sweep", tiny, "-p", "world.precision=3,5,7", "--out", out, "-w", "1", "--json")
+    result = cli(*args)
+    assert result.exit_code == 130 and "run the same command again to resume" in result.stderr
+    assert [row["status"] for row in json.loads(result.stdout)] == ["complete", "not run", "not run"]
+    assert [row["status"] for row in read_rows(out)[0]] == ["complete", "not run", "not run"]
+    monkeypatch.setattr(rustycs_cli.simulation, "run_scene", real)
+    resumed = json.loads(cli(*args).stdout)
+    assert [(row["status"], row["skipped"]) for row in resumed] == [
+        ("complete", True), ("complete", False), ("complete", False)]
+
+
+@pytest.mark.usefixtures("compiled_engine")
+@pytest.mark.parametrize("signum, whole_group", [(signal.SIGINT, True), (signal.SIGTERM, False)])
+def test_signal_stops_a_pool_sweep(tiny, tmp_path, signum, whole_group):
+    """Ctrl-C in a terminal (SIGINT to the process group) or SIGTERM to the sweep alone: running
+    variants stop with valid files, the third never starts, the tables are written, exit 130."""
+    out = tmp_path / "sig"
+    process = subprocess.Popen(
+        [sys.executable, "-c", "from rustycs_cli.app import main; main()", "sweep", str(tiny),
+         "-p", "world.precision=3,5,7", "--ticks", "100000000", "--out", str(out), "-w", "2", "--json"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+    )
+    deadline = time.monotonic() + 120
+    while len(list(out.glob(".*.tmp-*"))) < 2:  # both workers are running a variant
+        assert process.poll() is None and time.monotonic() < deadline, process.communicate()
+        time.sleep(0.05)
+    time.sleep(1.0)
+    if whole_group:
+        os.killpg(process.pid, signum)
+    else:
+        process.send_signal(signum)
+    stdout, stderr = process.communicate(timeout=120)
+    assert process.returncode == 130, stderr
+    assert "Traceback" not in stderr
+    rows = json.loads(stdout)
+    assert [row["status"] for row in rows] == ["interrupted", "interrupted", "not run"]
+    for row in rows[:2]:
+        with h5py.File(row["output"]) as file:
+            assert file["parameters"].attrs["ticks_completed"] == row["ticks"] > 0
+    assert not list(out.glob(".*.tmp-*")) and not Path(rows[2]["output"]).exists()
