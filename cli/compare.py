@@ -8,7 +8,6 @@ are read in blocks of frames and the statistics are accumulated block by block.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -122,7 +121,7 @@ class Comparison:
         return 0 if self.within_tolerance else 1
 
     def to_json(self) -> dict[str, Any]:
-        """A JSON-ready dict; non-finite errors are written as the strings "inf" / "nan"."""
+        """A JSON-ready dict (an infinite error, where one file is not finite, becomes null in JSON)."""
         return {
             "a": str(self.a),
             "b": str(self.b),
@@ -136,25 +135,18 @@ class Comparison:
             "bodies": len(self.body_names),
             "quantities": {
                 q.name: {
-                    "max_error": _json_float(q.max_error),
-                    "mean_error": _json_float(q.mean_error),
+                    "max_error": q.max_error,
+                    "mean_error": q.mean_error,
                     "values": q.values,
                     "outside_tolerance": q.outside,
                     "first_tick": q.first_tick,
-                    "worst_bodies": [
-                        {**body, "max_error": _json_float(body["max_error"])}
-                        for body in q.worst_bodies(self.body_names)
-                    ],
+                    "worst_bodies": q.worst_bodies(self.body_names),
                 }
                 for q in self.quantities
             },
             "only_in_a": self.only_in_a,
             "only_in_b": self.only_in_b,
         }
-
-
-def _json_float(value: float) -> float | str:
-    return value if math.isfinite(value) else str(value)
 
 
 def compare_trajectories(
@@ -195,8 +187,9 @@ def compare_trajectories(
 
 def _check_comparable(fa: h5py.File, fb: h5py.File) -> tuple[list[str], np.ndarray]:
     """Return the body names and frame steps shared by both files, or raise NotComparable."""
-    names_a = [str(n) for n in fa[f"{BODIES}/name"].asstr()[()]]
-    names_b = [str(n) for n in fb[f"{BODIES}/name"].asstr()[()]]
+    from rustycs_cli.trajectory import read_strings
+
+    names_a, names_b = read_strings(fa[f"{BODIES}/name"]), read_strings(fb[f"{BODIES}/name"])
     if names_a != names_b:
         if len(names_a) != len(names_b):
             detail = f"A has {len(names_a)} bodies, B has {len(names_b)}"

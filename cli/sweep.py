@@ -13,7 +13,6 @@ from __future__ import annotations
 import functools
 import itertools
 import json
-import math
 import os
 import re
 import signal
@@ -155,39 +154,31 @@ def finished_outcome(variant: Variant) -> VariantOutcome | None:
     and it ran the requested number of ticks (and frame interval, when one is forced).
     """
     from rustycs_cli.summary import sidecar_path
-    from rustycs_cli.trajectory import open_trajectory
+    from rustycs_cli.trajectory import open_trajectory, read_attrs
 
     output = variant.task.output
     if not output.exists():
         return None
     try:
         with open_trajectory(output) as file:
-            attrs = file["parameters"].attrs
-            stored = {key: attrs.get(key) for key in ("status", "scene_sha256", "ticks_completed", "every")}
-            summary = {key: _plain(value) for key, value in file["parameters/summary"].attrs.items()}
+            stored = read_attrs(file["parameters"])
+            summary = read_attrs(file["parameters/summary"])
     except (UserError, OSError, KeyError):  # unreadable or half-written: run it again
         return None
     if (
-        _plain(stored["status"]) != "complete"
-        or _plain(stored["scene_sha256"]) != variant.sha256
-        or _plain(stored["ticks_completed"]) != variant.expected_ticks
-        or (variant.task.every is not None and _plain(stored["every"]) != variant.task.every)
+        stored.get("status") != "complete"
+        or stored.get("scene_sha256") != variant.sha256
+        or stored.get("ticks_completed") != variant.expected_ticks
+        or (variant.task.every is not None and stored.get("every") != variant.task.every)
     ):
         return None
     sidecar = sidecar_path(output)
-    if sidecar.exists():
+    if sidecar.exists():  # the same statistics, with None where the attributes cannot hold one
         try:
             summary = json.loads(sidecar.read_text(encoding="utf-8"))
         except (OSError, ValueError):
             pass
     return VariantOutcome(variant.task.index, "complete", summary, skipped=True)
-
-
-def _plain(value: Any) -> Any:
-    """An HDF5 attribute as a plain Python value (str for bytes, int/float for numpy scalars)."""
-    if isinstance(value, bytes):
-        return value.decode("utf-8", "replace")
-    return value.item() if hasattr(value, "item") else value
 
 
 def run_variant(task: VariantTask) -> VariantOutcome:
@@ -430,14 +421,15 @@ def _record(
 
 
 def write_tables(out_dir: Path, rows: list[dict[str, Any]]) -> None:
-    """sweep.json (a list of rows, typed) and sweep.csv (same columns), each written atomically."""
+    """sweep.json (a list of rows, typed, strict JSON) and sweep.csv (same columns), each atomic."""
     import csv
     import io
 
-    from rustycs_cli.summary import write_text_atomic
+    from rustycs_cli.summary import to_json, write_text_atomic
 
-    clean = [{key: _finite(value) for key, value in row.items()} for row in rows]
-    write_text_atomic(out_dir / "sweep.json", json.dumps(clean, indent=2) + "\n")
+    text = to_json(rows)
+    write_text_atomic(out_dir / "sweep.json", text + "\n")
+    clean = json.loads(text)
     columns = list(dict.fromkeys(key for row in clean for key in row))
     buffer = io.StringIO()
     writer = csv.DictWriter(buffer, fieldnames=columns, lineterminator="\n")
@@ -445,11 +437,6 @@ def write_tables(out_dir: Path, rows: list[dict[str, Any]]) -> None:
     for row in clean:
         writer.writerow({key: _csv_cell(row.get(key)) for key in columns})
     write_text_atomic(out_dir / "sweep.csv", buffer.getvalue())
-
-
-def _finite(value: Any) -> Any:
-    """Strict JSON: non-finite numbers become null (as in the summary sidecar)."""
-    return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
 def _csv_cell(value: Any) -> str:

@@ -33,6 +33,7 @@ def command(
     Example: rustycs compare outputs/new.h5 outputs/reference.h5 --atol 1e-9
     """
     from rustycs_cli.compare import NotComparable, compare_trajectories, print_comparison
+    from rustycs_cli.summary import to_json
 
     try:
         comparison = compare_trajectories(a, b, atol=atol, rtol=rtol)
@@ -41,7 +42,7 @@ def command(
             print(json.dumps({"a": str(a), "b": str(b), "comparable": False, "reason": err.messages[0]}))
         raise
     if as_json:
-        print(json.dumps(comparison.to_json(), indent=2))
+        print(to_json(comparison.to_json()))
     else:
         print_comparison(comparison)
     raise typer.Exit(comparison.exit_code)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import typer
@@ -56,6 +55,7 @@ def command(
     Example: rustycs sweep scenes/material_bounce.yaml -p world.precision=5,10,20
     -p 'forces.gravity.acceleration=[0,-9.81],[0,-1.62]' --ticks 600
     """
+    from rustycs_cli.summary import to_json
     from rustycs_cli.sweep import default_workers, plan_sweep, run_sweep
     from rustycs_cli.sweep_report import print_sweep_table, report_problems, variant_progress
     from rustycs_cli.sweep_values import parse_swept_keys
@@ -65,7 +65,7 @@ def command(
     with variant_progress(not quiet, len(plan.variants), f"sweep {plan.scene_name}") as on_outcome:
         result = run_sweep(plan, workers or default_workers(), scheduler, on_outcome)
     if as_json:
-        print(json.dumps(result.rows(), indent=2))
+        print(to_json(result.rows()))
     elif show:
         print_sweep_table(result)
     report_problems(result)
