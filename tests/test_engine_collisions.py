@@ -88,3 +88,41 @@ def test_approach_slower_than_the_threshold_does_not_bounce():
     v, _, before, after = head_on(1.0, 1.0, 0.5, 0.0, restitution=1.0, threshold=1.0)
     assert v[:, 0] == pytest.approx([0.25, 0.25], abs=0.005)
     assert_momentum_conserved(before, after)
+
+
+def test_kinematic_body_pushes_a_dynamic_body_and_keeps_its_velocity():
+    world = World(tick_rate=60.0)
+    material = Material(1.0, 0.0, 0.5)
+    pusher = world.add_body(Box(1.0, 1.0), position=(-2.0, 0.0), velocity=(1.5, 0.0), body_type="kinematic",
+                            material=material)
+    crate = world.add_body(Box(1.0, 1.0), position=(0.0, 0.0), material=material)
+    world.step(120)
+    assert np.array_equal(world.velocities[pusher], [1.5, 0.0])
+    assert world.centers[pusher] == pytest.approx([1.0, 0.0], abs=1e-9)
+    # pushed ahead of it at its speed (restitution 0), touching it
+    assert world.velocities[crate] == pytest.approx([1.5, 0.0], abs=0.015)
+    assert world.centers[crate][0] - world.centers[pusher][0] == pytest.approx(1.0, abs=0.01)
+
+
+@pytest.mark.parametrize("material", ["rubber", "default"])
+def test_box_dropped_flat_rebounds_like_a_ball_without_spinning(material):
+    # beyond the list: the bounce test with a box landing on its face (a two-point manifold)
+    drop = 2.0
+    world = World(tick_rate=60.0, precision=10)
+    world.add_force((0.0, -9.81))
+    world.add_body(Box(10.0, 1.0), position=(0, -0.5), body_type="static", material=material)
+    box = world.add_body(Box(1.0, 0.5), position=(0, drop + 0.25), material=material)
+    bounced = False
+    apex = -np.inf
+    spin = 0.0
+    for _ in range(120):
+        world.step()
+        spin = max(spin, abs(world.angular_velocities[box]))
+        if world.velocities[box][1] > 0:
+            bounced = True
+            apex = max(apex, world.centers[box][1] - 0.25)
+        elif bounced:
+            break
+    e = MATERIALS[material].restitution
+    assert apex == pytest.approx(e * e * drop, rel=0.10)
+    assert spin < 0.05

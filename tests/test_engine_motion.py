@@ -114,3 +114,21 @@ def test_attractors_add_up():
     world.step()
     expected = np.array([-4.0 / 1.0, 8.0 / 4.0 - 1.0]) / 100.0
     assert world.velocities[0] == pytest.approx(expected, rel=1e-12)
+
+
+def test_leaving_the_bounds_deactivates_and_freezes_a_body():
+    world = World(tick_rate=60.0, bounds=((-10.0, -1.0), (10.0, 10.0)))
+    world.add_force((0.0, -9.81))
+    falling = world.add_body(Circle(0.1), position=(0.0, 0.0))
+    flying = world.add_body(Circle(0.1), position=(5.0, 5.0), velocity=(30.0, 0.0))
+    world.add_body(Circle(0.1), position=(-50.0, 0.0), body_type="static")  # static: never counted
+    world.step(60)
+    assert list(world.active) == [False, False, True]
+    assert world.escaped_count == 2
+    frozen = world.centers
+    # the fall crosses y = -1 after sqrt(2/9.81) s, within tick 28: it stopped just beyond the bound
+    assert -1.0 - 30 * 9.81 / 60 / 60 < frozen[falling][1] < -1.0
+    assert frozen[flying][0] > 10.0
+    world.step(10)
+    assert np.array_equal(world.centers, frozen)
+    assert np.all(world.velocities[:2] == 0.0)
