@@ -7,6 +7,9 @@ off, continuous collision at its default, single-threaded. Both engines mix mate
 gets sqrt(friction) and static shapes elasticity 1 (the scenes' statics have restitution 0, so the
 product equals Box2D's max). Attractors are applied from Python before every step, as the harness does.
 
+Box2D v3's make_rot and body.angle are fast approximations (errors near 1e-3 rad), so rotations are
+built from the exact cosine and sine and read back with atan2.
+
 Each adapter offers `step` (one tick, no adapter layer in between) and `poses()` ((x, y, angle) of
 every body origin, in scene order).
 """
@@ -43,6 +46,12 @@ def versions() -> dict[str, str]:
 def build(engine: str, scene: BenchScene) -> PymunkWorld | Box2DWorld:
     """The peer world of `engine` ("pymunk" or "pyb2d3") holding the scene's bodies."""
     return {"pymunk": PymunkWorld, "pyb2d3": Box2DWorld}[engine](scene)
+
+
+def _group_number(group: int) -> int:
+    """A distinct positive number for each non-zero rustycs group (pymunk wants groups >= 0, Box2D
+    takes its negative: only negative groups never collide)."""
+    return 2 * abs(group) - (group < 0)
 
 
 def _world_vertices(spec: BodySpec) -> list[tuple[float, float]]:
@@ -132,8 +141,7 @@ class PymunkWorld:
                 shape.mass = spec.mass  # centre of gravity and moment follow from the shape
         shape.friction = math.sqrt(spec.friction)
         shape.elasticity = 1.0 if static else spec.restitution
-        # Box2D: equal negative group never collides; pymunk: equal non-zero group.
-        shape.filter = pymunk.ShapeFilter(group=spec.group) if spec.group else pymunk.ShapeFilter()
+        shape.filter = pymunk.ShapeFilter(group=_group_number(spec.group))  # 0: no group
         if static:
             self.space.add(shape)
         else:
@@ -171,14 +179,14 @@ class Box2DWorld:
         kinds = {"static": b2.BodyType.STATIC, "dynamic": b2.BodyType.DYNAMIC,
                  "kinematic": b2.BodyType.KINEMATIC}
         body = self.world.create_body(b2.body_def(
-            type=kinds[spec.body_type], position=spec.position, rotation=b2.make_rot(spec.angle),
+            type=kinds[spec.body_type], position=spec.position, rotation=b2.Rot(spec.angle),
             linear_velocity=spec.velocity, angular_velocity=spec.angular_velocity, enable_sleep=False,
             fixed_rotation=spec.kind == "aabb"))
         density = spec.mass / spec.area if spec.body_type == "dynamic" else 0.0
         shape = b2.shape_def(density=density, material=b2.surface_material(
             friction=spec.friction, restitution=spec.restitution))
-        if spec.group:  # Box2D needs a negative group to never collide: map each group to its own one
-            shape.filter = b2.make_filter(group_index=-2 * abs(spec.group) + (spec.group < 0))
+        if spec.group:
+            shape.filter = b2.make_filter(group_index=-_group_number(spec.group))
         if spec.kind == "circle":
             body.create_circle_shape(shape, b2.circle(radius=spec.radius))
         else:
@@ -188,6 +196,6 @@ class Box2DWorld:
     def poses(self) -> list[tuple[float, float, float]]:
         out = []
         for body in self.bodies:
-            p = body.position
-            out.append((p.x, p.y, body.angle))
+            p, q = body.position, body.rotation
+            out.append((p.x, p.y, math.atan2(q.s, q.c)))
         return out

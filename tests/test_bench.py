@@ -1,0 +1,239 @@
+"""`rustycs bench`: the command runs and reports its fields; the peer adapters build the same bodies;
+the quality measures give the right numbers on hand-made poses. No test asserts a time."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from rich.console import Console
+from rustycs_cli.bench import peers, quality, suite
+from rustycs_cli.bench.report import print_report
+from rustycs_cli.bench.spec import BenchScene, BodySpec, describe
+from rustycs_cli.build import build_world
+from rustycs_cli.loading import load_scene_text
+
+HAVE_PEERS = all(importlib.util.find_spec(name) for name in peers.ENGINES)
+needs_peers = pytest.mark.skipif(not HAVE_PEERS, reason="pymunk and pyb2d3 (the bench extra) are missing")
+
+SQUARE = ((-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5))
+
+
+def body(kind: str = "circle", position=(0.0, 0.0), body_type: str = "dynamic", radius: float = 0.5,
+         vertices=SQUARE, angle: float = 0.0, group: int = 0) -> BodySpec:
+    return BodySpec(kind=kind, body_type=body_type, position=position, angle=angle, velocity=(0.0, 0.0),
+                    angular_velocity=0.0, radius=radius if kind == "circle" else 0.0,
+                    vertices=() if kind == "circle" else tuple(vertices),
+                    mass=1.0 if body_type == "dynamic" else math.inf, friction=0.6, restitution=0.0,
+                    group=group)
+
+
+def bench_scene(*bodies: BodySpec, attractors=()) -> BenchScene:
+    return BenchScene("hand-made", 1 / 60, (0.0, -9.81), tuple(attractors), bodies)
+
+
+def poses(scene: BenchScene) -> np.ndarray:
+    return np.array([(*b.position, b.angle) for b in scene.bodies])
+
+
+# ------------------------------------------------------------------------------------------ quality
+
+
+def test_deepest_overlap_of_each_shape_pair():
+    cases = {
+        0.1: (body(position=(0, 0)), body(position=(0.9, 0))),  # circles, 1.0 - 0.9
+        0.2: (body("obb", (0, 0)), body("obb", (0.8, 0.05))),  # boxes overlap 0.2 along x
+        0.15: (body("obb", (0, 0)), body(position=(0.85, 0.0))),  # circle into a box face
+        0.0: (body("obb", (0, 0)), body("obb", (1.3, 0), angle=math.pi / 4)),  # turned box just apart
+    }
+    for depth, pair in cases.items():
+        scene = bench_scene(*pair)
+        got = quality.deepest_overlap(scene, poses(scene), np.ones(2, bool))
+        assert got == pytest.approx(depth, abs=1e-12)
+
+
+def test_overlap_skips_same_group_statics_pairs_and_inactive_bodies():
+    deep, shallow = body(position=(0, 2), group=3), body(position=(0.5, 2), group=3)  # 0.5 deep, one group
+    floor = body("aabb", (0, -0.5), body_type="static", vertices=((-5, -0.5), (5, -0.5), (5, 0.5), (-5, 0.5)))
+    wall = body("aabb", (0, 0), body_type="static")  # overlaps the floor: statics never count
+    resting = body(position=(3, 0.45))  # 0.05 into the floor
+    scene = bench_scene(deep, shallow, floor, wall, resting)
+    alive = np.ones(5, bool)
+    assert quality.deepest_overlap(scene, poses(scene), alive) == pytest.approx(0.05)
+    other = bench_scene(deep, body(position=(0.5, 2), group=4), floor, wall, resting)
+    assert quality.deepest_overlap(other, poses(other), alive) == pytest.approx(0.5)
+    alive[1] = False  # a deactivated body no longer collides
+    assert quality.deepest_overlap(other, poses(other), alive) == pytest.approx(0.05)
+
+
+def test_escaped_counts_bodies_outside_the_container_and_deactivated_ones():
+    floor = body("aabb", (0, -0.5), body_type="static")
+    left, right = body("aabb", (-10.5, 30), body_type="static"), body("aabb", (10.5, 30), body_type="static")
+    inside, below, beside, frozen = (body(position=p) for p in ((0, 3), (0, -0.7), (11, 5), (2, 2)))
+    scene = bench_scene(floor, left, right, inside, below, beside, frozen)
+    active = np.array([True] * 6 + [False])
+    assert quality.escaped(scene, poses(scene), active) == 3
+
+
+def test_measures_from_start_and_end_poses():
+    sun = (1.0, 0.0, 1000.0)
+    floor = body("aabb", (0, -0.5), body_type="static")
+    scene = bench_scene(floor, body(position=(3, 0)), body(position=(1, 5)), attractors=[sun])
+    start = poses(scene)
+    end = start + [[0, 0, 0], [1.0, 0, 0], [0, -0.5, 0]]  # radii about (1, 0): 2 -> 3 and 5 -> 4.5
+    got = quality.measure(("max_displacement", "mean_radius_drift", "max_radius_drift"), scene, start, end)
+    assert got == pytest.approx({"max_displacement": 1.0, "mean_radius_drift": 0.3, "max_radius_drift": 0.5})
+
+
+# -------------------------------------------------------------------------------------- peer adapters
+
+FALLING = """\
+name: falling
+world: {tick_rate: 60, ticks: 10, precision: 4}
+forces: [{name: gravity, acceleration: [0, -9.81]}]
+materials: {bench: {density: 1.0, restitution: 0.0, friction: 0.6}}
+bodies:
+  - {name: floor, type: static, shape: {type: aabb, width: 40, height: 1}, position: [0, -10.5],
+     material: bench}
+  - {name: crate, shape: {type: obb, width: 1, height: 0.5}, position: [-3, 2], angle: 0.3, material: bench}
+  - {name: wedge, shape: {type: polygon, vertices: [[0, 0], [1.2, 0], [0, 0.9]]}, position: [0, 2],
+     angle: -0.4, material: bench}
+  - {name: ball, shape: {type: circle, radius: 0.3}, position: [3, 2], velocity: [1, 2], material: bench}
+  - {name: slab, shape: {type: aabb, width: 2, height: 0.4}, position: [6, 2], mass: 5, material: bench}
+"""
+
+
+def falling_scene() -> tuple[BenchScene, object]:
+    scene = load_scene_text(FALLING, "falling.yaml").scene
+    world = build_world(scene)
+    return describe(scene, world), world
+
+
+def test_describe_reads_the_scene_as_rustycs_builds_it():
+    bench, _world = falling_scene()
+    floor, crate, wedge, ball, slab = bench.bodies
+    assert bench.gravity == (0.0, -9.81) and bench.dt == pytest.approx(1 / 60)
+    assert floor.body_type == "static" and floor.mass == math.inf
+    assert crate.kind == "obb" and crate.mass == pytest.approx(0.5) and crate.angle == pytest.approx(0.3)
+    assert wedge.kind == "polygon" and wedge.area == pytest.approx(0.54)
+    assert wedge.position == pytest.approx((0.0, 2.0), abs=1e-12)
+    assert ball.velocity == (1.0, 2.0) and ball.radius == 0.3 and ball.friction == 0.6
+    assert slab.kind == "aabb" and slab.mass == 5.0
+
+
+@needs_peers
+@pytest.mark.parametrize("engine", peers.ENGINES)
+def test_peers_build_the_same_bodies_as_rustycs(engine: str, compiled_engine: None):
+    bench, world = falling_scene()
+    peer = peers.build(engine, bench)
+    start = np.array(peer.poses())
+    assert start[1:] == pytest.approx(poses(bench)[1:], abs=1e-6)  # origins, not centroids
+    for _ in range(10):
+        peer.step()
+    world.step(10)
+    ours = np.column_stack([world.positions, world.angles])
+    # Free flight for 1/6 s (the bodies fall 0.12 to 0.15 m): the engines differ only in integrating
+    # (pymunk moves positions before velocities, rustycs and Box2D take substeps).
+    assert np.array(peer.poses())[1:] == pytest.approx(ours[1:], abs=0.025)
+    assert ours[3, 0] - 3.0 == pytest.approx(1 / 6, abs=1e-9)  # the ball's initial velocity
+
+
+@needs_peers
+@pytest.mark.parametrize("engine", peers.ENGINES)
+def test_peers_keep_collision_groups(engine: str):
+    def gap_after(group_b: int) -> float:
+        scene = BenchScene("pair", 1 / 60, (0.0, 0.0), (), (body(position=(0, 0), group=2),
+                                                             body(position=(0.8, 0), group=group_b)))
+        peer = peers.build(engine, scene)
+        for _ in range(30):
+            peer.step()
+        (xa, _, _), (xb, _, _) = peer.poses()
+        return xb - xa
+
+    assert gap_after(2) == pytest.approx(0.8)  # same group: they pass through each other
+    assert gap_after(-2) > 0.95  # another group (also in Box2D, where groups must be negative)
+
+
+# ---------------------------------------------------------------------------------- aggregation, report
+
+
+def test_series_medians_ratios_and_failures(monkeypatch: pytest.MonkeyPatch):
+    times = {"rustycs": iter([1.0, 3.0, 2.0]), "pymunk": iter([4.0, 4.0, 5.0]), "pyb2d3": iter([1.0, 1.0])}
+
+    def fake(engine: str, scene: str, max_ticks, block: int, metrics) -> dict:
+        value = next(times[engine], None)
+        if value is None:
+            return {"error": "diverged"}
+        return {"ms_per_tick": value, "scene": "S2_pyramid20", "bodies": 210, "ticks": 600,
+                "quality": {"max_displacement": value / 10}}
+
+    monkeypatch.setattr(suite.runner, "measure_steps", fake)
+    plan = suite.Plan(scenes={"S2": Path("S2.yaml")}, engines=("rustycs", "pymunk", "pyb2d3"), reps=3,
+                      max_ticks=None, block=100, compile=False, scaling=False, command="rustycs bench")
+    rows = suite._series(plan, [("S2", "S2.yaml", ("max_displacement",))], lambda line: None)
+    row = rows["S2"]
+    assert row["engines"]["rustycs"]["median_ms"] == 2.0 and row["engines"]["rustycs"]["min_ms"] == 1.0
+    assert row["ratios"] == {"pymunk": 0.5, "pyb2d3": 2.0}
+    assert row["engines"]["pymunk"]["quality"] == {"max_displacement": 0.4}  # from the first repetition
+    result = {"meta": {"cpu": "cpu", "cores": 2, "date": "today", "command": "rustycs bench", "reps": 3},
+              "scenes": rows}
+    assert suite.failures(result) == ["S2 pyb2d3: diverged"]
+    console = Console(record=True, width=200)
+    print_report(result, markdown=True, console=console)
+    rows = [[cell.strip() for cell in line.strip().strip("|").split("|")]
+            for line in console.export_text().splitlines() if line.startswith("| S2")]
+    assert rows == [
+        ["S2_pyramid20", "210", "600", "2.000 (1.000)", "4.000 (4.000)", "0.50", "1.000 (1.000)", "2.00"],
+        ["S2_pyramid20", "worst box displacement, m", "0.1", "0.4", "0.1"],
+    ]
+
+
+# ------------------------------------------------------------------------------------- the command
+
+
+def test_bench_one_scene_json(cli, monkeypatch: pytest.MonkeyPatch):
+    monkeypatch.setattr(suite, "SCALING_SIZES", (40, 90))
+    done = cli("bench", "--scenes", "S1", "--ticks", "5", "--reps", "1", "--json", "-q")
+    assert done.exit_code == 0, done.stderr
+    result = json.loads(done.stdout)
+    assert result["meta"]["reps"] == 1 and result["meta"]["cores"] >= 1 and result["meta"]["cpu"]
+    s1 = result["scenes"]["S1"]
+    assert (s1["name"], s1["bodies"], s1["ticks"]) == ("S1_bounce", 5, 5)
+    cell = s1["engines"]["rustycs"]
+    assert len(cell["ms_per_tick"]) == 1 and cell["median_ms"] == cell["min_ms"] > 0
+    assert s1["ratios"] == {}
+    times = result["compile"]
+    assert times["errors"] == [] and all(times[k] > 0 for k in ("cold_s", "warm_s", "import_s", "startup_s"))
+    for count in ("40", "90"):
+        row = result["scaling"][count]
+        assert (row["bodies"], row["ticks"]) == (int(count), 5)
+        # 5 ticks after release from a grid wider than the circles: nothing touches, nothing escaped
+        assert row["engines"]["rustycs"]["quality"] == {"max_overlap": 0.0, "escaped": 0}
+
+
+@needs_peers
+def test_bench_peers_on_the_orbits(cli):
+    done = cli("bench", "S6", "--peers", "--ticks", "10", "--reps", "1", "--no-scaling", "--no-compile",
+               "--json", "-q")
+    assert done.exit_code == 0, done.stderr
+    s6 = json.loads(done.stdout)["scenes"]["S6"]
+    assert set(s6["ratios"]) == {"pymunk", "pyb2d3"} and all(r > 0 for r in s6["ratios"].values())
+    for engine in ("rustycs", "pymunk", "pyb2d3"):
+        drift = s6["engines"][engine]["quality"]
+        # a sixth of a second of circular orbits: every engine keeps the radii within 2 %
+        assert 0 < drift["mean_radius_drift"] <= drift["max_radius_drift"] < 0.02
+
+
+def test_bench_peers_missing_is_a_user_error(cli, monkeypatch: pytest.MonkeyPatch):
+    monkeypatch.setattr(peers, "missing", lambda: ["pyb2d3"])
+    done = cli("bench", "--peers", "--scenes", "S1")
+    assert done.exit_code == 2 and "pip install 'rustycs[bench]'" in done.stderr and "pyb2d3" in done.stderr
+
+
+def test_bench_unknown_scene(cli):
+    done = cli("bench", "--scenes", "S1,S9", "--no-compile", "--no-scaling")
+    assert done.exit_code == 2 and "unknown bench scene 'S9'" in done.stderr
