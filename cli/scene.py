@@ -785,34 +785,34 @@ class Scene(_Model):
         0, ge=0, description="Seeds every generator (`rustycs run --seed` overrides).", examples=[0]
     )
     world: World = Field(
-        default_factory=World,
-        description="Time stepping and world-wide settings.",
+        World(),
+        description="Tick rate, run length, solver precision, G, bounds and restitution threshold.",
         examples=[{"tick_rate": 240, "ticks": 1200, "precision": 10}],
     )
     forces: list[Force] = Field(
-        default_factory=list,
+        [],
         description="Constant accelerations on every dynamic body.",
         examples=[[{"name": "gravity", "acceleration": [0, -9.81]}]],
     )
     attractors: list[Attractor] = Field(
-        default_factory=list,
+        [],
         description="Fixed points that pull dynamic bodies.",
         examples=[[{"name": "sun", "position": [0, 0], "mass": 1000}]],
     )
     materials: dict[str, Material] = Field(
-        default_factory=dict,
+        {},
         description="User materials by name; they extend, and may override, the presets default (0.1, 0.5, "
         "0.6), rubber (0.9, 0.6, 0.8), plastic (1.2, 0.5, 0.6), stone (2.5, 0.2, 0.4) and metal (7.8, 0.1, "
         "0.2) as (density, restitution, friction).",
         examples=[{"ice": {"density": 0.9, "restitution": 0.05, "friction": 0.02}}],
     )
     bodies: list[Body] = Field(
-        default_factory=list,
+        [],
         description="The bodies, in output order.",
         examples=[[{"shape": {"type": "circle", "radius": 0.2}, "position": [0, 5]}]],
     )
     generators: list[Generator] = Field(
-        default_factory=list,
+        [],
         description="Entries that create many bodies, reproducibly from `seed`; "
         "their bodies come after the listed ones.",
         examples=[
@@ -827,7 +827,7 @@ class Scene(_Model):
         ],
     )
     output: Output = Field(
-        default_factory=Output, description="What a run records.", examples=[{"every": 1, "contacts": False}]
+        Output(), description="Recording interval and whether contacts are recorded.", examples=[{"every": 1, "contacts": False}]
     )
 
     @model_validator(mode="after")

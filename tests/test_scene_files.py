@@ -1,0 +1,161 @@
+"""The scene files in scenes/ and the JSON Schema at the repository root."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+from rustycs_cli.loading import load_scene
+from rustycs_cli.scene import PRESET_MATERIALS, Circle, Scene
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENES = sorted((ROOT / "scenes").rglob("*.yaml"))
+DEMOS = ["all_platforms", "material_bounce", "pile", "pool", "slide_and_fall", "slope", "solar_system"]
+BENCH = ["S1_bounce", "S2_pyramid20", "S3_pyramid40", "S4_rain1000", "S5_polypile500", "S6_orbits"]
+
+
+def test_the_scenes_are_all_there() -> None:
+    assert [p.stem for p in SCENES if p.parent.name == "scenes"] == DEMOS
+    assert [p.stem for p in SCENES if p.parent.name == "bench"] == BENCH
+
+
+@pytest.mark.parametrize("path", SCENES, ids=lambda p: p.stem)
+def test_every_scene_validates_and_points_at_the_schema(path: Path) -> None:
+    loaded = load_scene(path)
+    assert loaded.scene.bodies
+    schema = path.parent.joinpath(path.read_text().splitlines()[0].split("$schema=")[1]).resolve()
+    assert path.read_text().startswith("# yaml-language-server: $schema=")
+    assert schema == ROOT / "rustycs.schema.json"
+
+
+def test_schema_file_is_what_rustycs_schema_writes(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    result = cli("schema")
+    assert result.exit_code == 0
+    assert json.loads(result.stdout) == json.loads((ROOT / "rustycs.schema.json").read_text())
+    out = tmp_path / "schema.json"
+    assert cli("schema", "-o", out).exit_code == 0
+    assert out.read_text() == result.stdout
+    assert [p.name for p in tmp_path.iterdir()] == ["schema.json"]  # no temporary left behind
+
+
+def _properties(schema: dict[str, Any]) -> list[tuple[str, str, dict[str, Any]]]:
+    return [
+        (model, name, prop)
+        for model, definition in [("Scene", schema), *schema["$defs"].items()]
+        for name, prop in definition.get("properties", {}).items()
+    ]
+
+
+def test_schema_documents_every_field() -> None:
+    schema = Scene.model_json_schema()
+    fields = _properties(schema)
+    assert len(fields) > 80
+    for model, name, prop in fields:
+        assert prop.get("description"), f"{model}.{name} has no description"
+        assert prop.get("examples"), f"{model}.{name} has no example"
+    required = {
+        (model, name)
+        for model, definition in [("Scene", schema), *schema["$defs"].items()]
+        for name in definition.get("required", [])
+    }
+    for model, name, prop in fields:
+        assert (model, name) in required or "default" in prop, f"{model}.{name} has no default"
+
+
+@pytest.mark.parametrize("path", SCENES, ids=lambda p: p.stem)
+def test_scene_files_satisfy_the_json_schema(path: Path) -> None:
+    jsonschema = pytest.importorskip("jsonschema")
+    schema = json.loads((ROOT / "rustycs.schema.json").read_text())
+    data = load_scene(path).text  # every scene as YAML data with generators expanded
+    jsonschema.validate(yaml.safe_load(path.read_text()), schema)
+    jsonschema.validate(yaml.safe_load(data), schema)
+
+
+def test_solar_system_planets_are_on_circular_orbits() -> None:
+    scene = load_scene(ROOT / "scenes" / "solar_system.yaml").scene
+    (sun,) = scene.attractors
+    assert sun.mass == 1000 and sun.min_distance == 0.1 and scene.forces == []
+    gm = scene.world.gravitational_constant * sun.mass
+    assert len(scene.bodies) == 8
+    for planet in scene.bodies:
+        (x, y), (vx, vy) = planet.position, planet.velocity
+        r = math.hypot(x, y)
+        assert math.hypot(vx, vy) == pytest.approx(math.sqrt(gm / r), rel=1e-10)
+        assert x * vx + y * vy == 0 and x * vy - y * vx > 0  # perpendicular, counter-clockwise
+
+
+def test_material_bounce_has_the_five_materials() -> None:
+    scene = load_scene(ROOT / "scenes" / "material_bounce.yaml").scene
+    balls = [b for b in scene.bodies if b.type == "dynamic"]
+    assert [b.material for b in balls] == ["rubber", "plastic", "stone", "metal", "default"]
+    assert [b.position for b in balls] == [(x, 5.0) for x in (-4, -2, 0, 2, 4)]
+    assert all(isinstance(b.shape, Circle) and b.shape.radius == 0.2 for b in balls)
+    assert scene.world.tick_rate == 240 and set(PRESET_MATERIALS) == {b.material for b in balls}
+
+
+def _peers() -> Any:
+    path = ROOT.parent / "shared" / "bench" / "peers" / "scenes.py"
+    if not path.exists():
+        pytest.skip(f"the peer benchmark's scenes.py is not next to this checkout ({path})")
+    spec = importlib.util.spec_from_file_location("peer_scenes_for_test", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_bench_scenes_are_what_the_converter_writes() -> None:
+    _peers()
+    script = ROOT / "scenes" / "bench" / "make_bench_scenes.py"
+    spec = importlib.util.spec_from_file_location("make_bench", script)
+    assert spec is not None and spec.loader is not None
+    converter = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(converter)
+    peers = converter.load_peers(converter.DEFAULT_PEERS)
+    for scene_id, make in peers.SCENES.items():
+        made = make()
+        text = converter.dump_scene_yaml(converter.convert(scene_id, made, peers), converter.HEADER)
+        assert text == (ROOT / "scenes" / "bench" / f"{made['name']}.yaml").read_text()
+
+
+@pytest.mark.parametrize("scene_id", ["S1", "S2", "S4", "S5", "S6"])
+def test_bench_scenes_have_the_peers_bodies(scene_id: str) -> None:
+    peers = _peers()
+    spec = peers.SCENES[scene_id]()
+    scene = load_scene(ROOT / "scenes" / "bench" / f"{spec['name']}.yaml").scene
+    statics = [b for b in scene.bodies if b.type == "static"]
+    dynamic = [b for b in scene.bodies if b.type == "dynamic"]
+    assert len(statics) == len(spec["statics"]) and len(dynamic) == len(spec["bodies"])
+    assert scene.world.tick_rate == 60 and scene.world.ticks == spec["steps"] and scene.world.precision == 4
+    assert [tuple(f.acceleration) for f in scene.forces] == ([] if scene_id == "S6" else [(0.0, -9.81)])
+    for body, peer in zip(dynamic, spec["bodies"], strict=True):
+        assert body.position == (peer["x"], peer["y"]) and body.angle == peer["angle"]
+        assert body.velocity == (peer["vx"], peer["vy"])
+        material = scene.material_of(body)
+        assert (material.density, material.friction) == (1.0, 0.6)
+        assert material.restitution == peer["restitution"]
+        if peer["shape"] == "box":
+            assert (body.shape.type, body.shape.width, body.shape.height) == (
+                "obb",
+                2 * peer["hx"],
+                2 * peer["hy"],
+            )
+        elif peer["shape"] == "circle":
+            assert body.shape.radius == peer["r"]
+        else:  # the peers' engines all take the convex hull of the points
+            hull = [tuple(v) for v in body.shape.vertices]
+            assert set(hull) <= {tuple(v) for v in peer["verts"]} and len(hull) >= len(peer["verts"]) - 1
+        assert body.collision_group == (1 if scene_id == "S6" else 0)
+    for body, peer in zip(statics, spec["statics"], strict=True):
+        assert body.position == (peer["cx"], peer["cy"]) and scene.material_of(body).restitution == 0
+    if scene_id == "S6":
+        (center,) = scene.attractors
+        assert center.mass * scene.world.gravitational_constant == peers.ORBIT_GM
+        assert statics[0].collision_group == 1
+    if scene_id == "S1":
+        assert [scene.material_of(b).restitution for b in dynamic] == [0.9, 0.6, 0.4, 0.2, 0.0]
