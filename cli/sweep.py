@@ -16,6 +16,7 @@ import json
 import os
 import re
 import signal
+import sys
 import threading
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
@@ -363,10 +364,12 @@ def run_sweep(
     workers: int,
     scheduler: str | None = None,
     on_outcome: Callable[[Variant, VariantOutcome], None] | None = None,
+    quiet: bool = False,
 ) -> SweepResult:
     """Skip finished variants, run the others, write sweep.csv and sweep.json, and return the result.
 
-    Ctrl-C or SIGTERM stops the sweep: running variants end as interrupted (their frames kept), the
+    `quiet` silences the one-line notice when the engine must first be compiled. Ctrl-C or SIGTERM
+    stops the sweep: running variants end as interrupted (their frames kept), the
     tables are still written (variants that never started as "not run") and the result says
     interrupted.
     """
@@ -381,6 +384,8 @@ def run_sweep(
             _record(result, by_index, outcome, on_outcome)
     plan.out_dir.mkdir(parents=True, exist_ok=True)
     try:
+        if pending and scheduler is None:
+            _compile_engine_once(quiet)
         with _terminate_as_interrupt():
             result.interrupted = dispatch(
                 pending, lambda outcome: _record(result, by_index, outcome, on_outcome), workers, scheduler
@@ -389,6 +394,19 @@ def run_sweep(
         result.interrupted = True
     write_tables(plan.out_dir, result.rows())
     return result
+
+
+def _compile_engine_once(quiet: bool) -> None:
+    """Compile the engine's kernels here, once, when the disk cache is cold: local workers then load
+    them from the cache instead of each compiling them at the same time."""
+    from rustycs_cli.simulation import COMPILE_SECONDS, warm_up
+
+    import rustycs
+
+    if rustycs.compile_needed():
+        if not quiet:
+            print(f"rustycs: compiling the engine (happens once, ~{COMPILE_SECONDS} s)...", file=sys.stderr)
+        warm_up()
 
 
 @contextmanager

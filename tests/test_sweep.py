@@ -256,3 +256,17 @@ def test_signal_stops_a_pool_sweep(tiny, tmp_path, signum, whole_group):
         with h5py.File(row["output"]) as file:
             assert file["parameters"].attrs["ticks_completed"] == row["ticks"] > 0
     assert not list(out.glob(".*.tmp-*")) and not Path(rows[2]["output"]).exists()
+
+
+def test_cold_engine_is_compiled_once_before_the_workers(cli, tiny, tmp_path, monkeypatch, compiled_engine):
+    import rustycs_cli.simulation
+
+    import rustycs
+
+    out = tmp_path / "c"
+    warmed = []  # for each warm-up: how many variants had run before it
+    monkeypatch.setattr(rustycs, "compile_needed", lambda: not warmed)
+    monkeypatch.setattr(rustycs_cli.simulation, "warm_up", lambda: warmed.append(len(list(out.glob("*.h5")))))
+    result = cli("sweep", tiny, "-p", "world.precision=3,5", "--out", out, "-w", "1")
+    assert result.exit_code == 0 and warmed[0] == 0
+    assert result.stderr.count("compiling the engine") == 1

@@ -63,7 +63,7 @@ def command(
     plan = plan_sweep(scene, parse_swept_keys(params), sets, out, ticks, every)
     show = not (quiet or as_json)
     with variant_progress(not quiet, len(plan.variants), f"sweep {plan.scene_name}") as on_outcome:
-        result = run_sweep(plan, workers or default_workers(), scheduler, on_outcome)
+        result = run_sweep(plan, workers or default_workers(), scheduler, on_outcome, quiet=quiet)
     if as_json:
         print(to_json(result.rows()))
     elif show:
