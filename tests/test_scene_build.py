@@ -1,0 +1,53 @@
+"""build_world: a validated scene becomes an engine World with the same settings and bodies (no stepping)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from rustycs_cli.build import build_world, material_names
+from rustycs_cli.loading import load_scene_text
+
+SCENE = """\
+world: {tick_rate: 120, precision: 7, gravitational_constant: 2.0, bounds: {min: [-50, -40], max: [50, 60]},
+        restitution_threshold: 0.5}
+forces:
+  - {name: gravity, acceleration: [0, -9.81]}
+  - {name: wind, acceleration: [2, 0]}
+attractors:
+  - {name: sun, position: [1, 2], mass: 1000, range: 5, min_distance: 0.1}
+materials:
+  metal: {density: 10, restitution: 0.1, friction: 0.2}
+bodies:
+  - {name: floor, type: static, shape: {type: aabb, width: 10, height: 1}, position: [0, -0.5],
+     material: stone}
+  - {name: ball, shape: {type: circle, radius: 0.5}, position: [0, 2], velocity: [1, 0], material: metal}
+  - {name: crate, shape: {type: obb, width: 2, height: 1}, position: [3, 1], angle: 0.3, angular_velocity: -1,
+     material: {density: 2, restitution: 0, friction: 1}}
+  - {name: wedge, shape: {type: polygon, vertices: [[0, 0], [3, 0], [0, 3]]}, position: [-3, 1], mass: 4.5,
+     collision_group: 1}
+  - {name: slider, type: kinematic, shape: {type: aabb, width: 1, height: 0.2}, position: [0, 5],
+     velocity: [0.5, 0]}
+"""
+
+
+def test_build_world_carries_settings_and_bodies() -> None:
+    scene = load_scene_text(SCENE, "build.yaml").scene
+    world = build_world(scene)
+    assert world.body_count == 5 and world.tick == 0
+    assert world.dt == 1 / 120 and world.bounds == ((-50, -40), (50, 60))
+    (sun,) = world.attractors
+    assert list(sun["position"]) == [1, 2] and sun["mass"] == 1000 and sun["range"] == 5
+    assert sun["min_distance"] == 0.1
+    assert list(world.shape_kinds) == ["aabb", "circle", "obb", "polygon", "aabb"]
+    assert list(world.body_types) == ["static", "dynamic", "dynamic", "dynamic", "kinematic"]
+    np.testing.assert_array_equal(world.positions, [[0, -0.5], [0, 2], [3, 1], [-3, 1], [0, 5]])
+    np.testing.assert_array_equal(world.velocities[[1, 4]], [[1, 0], [0.5, 0]])
+    assert world.angles[2] == 0.3 and world.angular_velocities[2] == -1
+    # the user material 'metal' (density 10) replaces the preset; inline density 2; explicit mass 4.5
+    assert world.masses[1] == math.pi * 0.25 * 10
+    assert world.masses[2] == 2 * 2 * 1 and world.masses[3] == 4.5
+    assert math.isinf(world.masses[0]) and math.isinf(world.masses[4])
+    # the wedge's centre of mass is its centroid (1, 1) from its origin
+    np.testing.assert_allclose(world.centers[3], [-2, 2])
+    assert material_names(scene) == ["stone", "metal", "inline", "default", "default"]
