@@ -173,7 +173,8 @@ def test_series_medians_ratios_and_failures(monkeypatch: pytest.MonkeyPatch):
 
     monkeypatch.setattr(suite.runner, "measure_steps", fake)
     plan = suite.Plan(scenes={"S2": Path("S2.yaml")}, engines=("rustycs", "pymunk", "pyb2d3"), reps=3,
-                      max_ticks=None, block=100, compile=False, scaling=False, command="rustycs bench")
+                      max_ticks=None, block=100, compile=False, scaling=False, recording=False,
+                      command="rustycs bench")
     rows = suite._series(plan, [("S2", "S2.yaml", ("max_displacement",))], lambda line: None)
     row = rows["S2"]
     assert row["engines"]["rustycs"]["median_ms"] == 2.0 and row["engines"]["rustycs"]["min_ms"] == 1.0
@@ -237,3 +238,11 @@ def test_bench_peers_missing_is_a_user_error(cli, monkeypatch: pytest.MonkeyPatc
 def test_bench_unknown_scene(cli):
     done = cli("bench", "--scenes", "S1,S9", "--no-compile", "--no-scaling")
     assert done.exit_code == 2 and "unknown bench scene 'S9'" in done.stderr
+
+
+def test_recording_worker_runs_the_scene(five_body_scene: Path, compiled_engine: None):
+    from rustycs_cli.bench.worker import record
+
+    got = record(str(five_body_scene), 7)
+    assert (got["scene"], got["ticks"]) == ("five", 7)
+    assert got["step_seconds"] > 0 and got["seconds"] >= 0 and got["peak_memory_mb"] > 1

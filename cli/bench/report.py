@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 from rich import box
@@ -48,6 +49,8 @@ def tables(result: dict[str, Any]) -> list[Table]:
         quality = _quality_table(result["scenes"])
         if quality.row_count:
             out.append(quality)
+    if "recording" in result:
+        out.append(_recording_table(result["recording"]))
     if "compile" in result:
         out.append(_compile_table(result["compile"]))
     if result.get("scaling"):
@@ -119,6 +122,22 @@ def _quantity(value: float | int | None) -> str:
     if value is None:
         return "–"
     return str(value) if isinstance(value, int) else f"{value:.3g}"
+
+
+def _recording_table(recording: dict[str, Any]) -> Table:
+    table = Table(title="recording: rustycs run writing every tick to HDF5, against stepping only")
+    for title in ("scene", "ticks", "stepping only, ms/tick", "run with recording, ms/tick", "overhead",
+                  "peak memory, MB"):
+        table.add_column(title, justify="left" if title == "scene" else "right")
+
+    def number(key: str, fmt: Callable[[float], str]) -> str:
+        value = recording.get(key)
+        return "–" if value is None else fmt(value)
+
+    table.add_row(str(recording.get("name")), str(recording.get("ticks")), number("stepping_median_ms", _ms),
+                  number("median_ms", _ms), number("overhead", lambda v: f"{100 * v:+.0f} %"),
+                  number("peak_memory_mb", lambda v: f"{v:.0f}"))
+    return table
 
 
 def _compile_table(times: dict[str, Any]) -> Table:

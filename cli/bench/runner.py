@@ -33,6 +33,11 @@ def measure_steps(engine: str, scene: str, max_ticks: int | None, block: int,
     return run_worker(args)
 
 
+def measure_recording(scene: str, max_ticks: int | None) -> dict[str, Any]:
+    """Time of `rustycs run` on `scene` recording every tick, and the worker's peak memory."""
+    return run_worker(["record", scene] + ([] if max_ticks is None else ["--max-ticks", str(max_ticks)]))
+
+
 def measure_first_step(cache_dir: Path) -> dict[str, Any]:
     """Import and first-step time with numba's kernel cache in `cache_dir`: cold when it is empty,
     warm once a previous measurement has filled it."""

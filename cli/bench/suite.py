@@ -20,6 +20,7 @@ from rustycs_cli.bench import runner
 from rustycs_cli.bench.quality import METRICS
 from rustycs_cli.bench.scenes import SCALING_SIZES, SCALING_TICKS, scaling_ref
 
+RECORDED_SCENE = "S4"  # the issue's yardstick: recording every tick of S4 costs at most 20 %
 PEER_SETTINGS = {
     "pymunk": "iterations 10, collision_slop 0.005, no sleeping",
     "pyb2d3": "4 substeps, sleeping off, continuous on, single-threaded",
@@ -37,6 +38,7 @@ class Plan:
     block: int
     compile: bool
     scaling: bool
+    recording: bool
     command: str
 
 
@@ -48,6 +50,8 @@ def run(plan: Plan, progress: Callable[[str], None]) -> dict[str, Any]:
         result["compile"] = _compile_times(plan.reps, progress)
     result["scenes"] = _series(plan, [(sid, str(path), METRICS[sid]) for sid, path in plan.scenes.items()],
                                progress)
+    if plan.recording and RECORDED_SCENE in plan.scenes:
+        result["recording"] = _recording(plan, result["scenes"][RECORDED_SCENE], progress)
     if plan.scaling:
         refs = [(str(n), scaling_ref(n), METRICS["scaling"]) for n in SCALING_SIZES]
         limited = plan.max_ticks if plan.max_ticks is not None else SCALING_TICKS
@@ -58,7 +62,8 @@ def run(plan: Plan, progress: Callable[[str], None]) -> dict[str, Any]:
 
 def failures(result: dict[str, Any]) -> list[str]:
     """One line per measurement that did not complete."""
-    out = []
+    out = [f"recording {error}" for error in result.get("recording", {}).get("errors", [])]
+    out += [f"compile {error}" for error in result.get("compile", {}).get("errors", [])]
     for series in ("scenes", "scaling"):
         for key, row in result.get(series, {}).items():
             for engine, cell in row["engines"].items():
@@ -94,12 +99,30 @@ def _series(plan: Plan, items: list[tuple[str, str, tuple[str, ...]]],
     return rows
 
 
+def _recording(plan: Plan, row: dict[str, Any], progress: Callable[[str], None]) -> dict[str, Any]:
+    """`rustycs run` of the recorded scene (every tick to HDF5) against its stepping-only time."""
+    scene = str(plan.scenes[RECORDED_SCENE])
+    runs = [runner.measure_recording(scene, plan.max_ticks) for _ in range(plan.reps)]
+    ok = [r for r in runs if "error" not in r]
+    for r in runs:
+        progress(f"record {RECORDED_SCENE}: {r.get('error') or format(r['ms_per_tick'], '.4f') + ' ms/tick'}")
+    median = statistics.median(r["ms_per_tick"] for r in ok) if ok else None
+    stepping = row["engines"]["rustycs"]["median_ms"]
+    return {
+        "scene": RECORDED_SCENE, "name": row.get("name"), "ticks": row.get("ticks"),
+        "ms_per_tick": [r["ms_per_tick"] for r in ok], "median_ms": median, "stepping_median_ms": stepping,
+        "overhead": median / stepping - 1.0 if median is not None and stepping else None,
+        "peak_memory_mb": max((r["peak_memory_mb"] for r in ok), default=None),
+        "errors": [r["error"] for r in runs if "error" in r],
+    }
+
+
 def _compile_times(reps: int, progress: Callable[[str], None]) -> dict[str, Any]:
     """Cold: first step with an empty kernel cache (once, it takes a while); warm: with the cache that
     run filled; start-up: `rustycs --help`."""
     with tempfile.TemporaryDirectory(prefix="rustycs-bench-cache-") as cache:
         cold = runner.measure_first_step(Path(cache))
-        progress(f"compile cold: {cold.get('first_step_s', cold.get('error'))}")
+        progress(f"compile cold: {cold.get('error') or format(cold['first_step_s'], '.1f') + ' s'}")
         warm = [runner.measure_first_step(Path(cache)) for _ in range(reps)]
     startup = [runner.measure_startup() for _ in range(max(reps, 3))]
     progress(f"start-up: {statistics.median(startup):.3f} s")

@@ -1,12 +1,14 @@
 """One measurement in a fresh process, printed as one JSON line on stdout (run by bench.runner).
 
     python -m rustycs_cli.bench.worker step ENGINE SCENE [--max-ticks N] [--block N] [--metrics a,b]
+    python -m rustycs_cli.bench.worker record SCENE [--max-ticks N]
     python -m rustycs_cli.bench.worker first-step
 
 `step` builds SCENE (a scene file, or `scaling:N`) in ENGINE (rustycs, pymunk or pyb2d3) and times
 only the stepping: building, compiling and reading state back are outside the clock. rustycs steps in
 blocks of `--block` ticks (world.step(n) runs a block in compiled code), the peers one Python call per
-tick, with the attractor force set from Python before each, as the peer harness does. `first-step`
+tick, with the attractor force set from Python before each, as the peer harness does. `record` times
+what `rustycs run` does with the scene (every tick recorded to HDF5) and its peak memory. `first-step`
 times importing rustycs and its first step (compiling the kernels, or loading them from the cache).
 """
 
@@ -80,6 +82,37 @@ def step(engine: str, ref: str, max_ticks: int | None, block: int, metrics: list
                 quality=quality.measure(metrics, bench, start, end, active))
 
 
+def record(ref: str, max_ticks: int | None) -> dict[str, Any]:
+    """The cost per tick of `rustycs run` recording every tick (into a temporary file), and the peak
+    memory. Building the world and opening and closing the file are taken out: a run of 0 ticks is
+    timed too and subtracted (after an untimed one that pays the imports)."""
+    import resource
+    import tempfile
+    from pathlib import Path
+
+    from rustycs_cli.simulation import run_scene, warm_up
+
+    loaded = load(ref)
+    ticks = loaded.scene.world.ticks if max_ticks is None else min(max_ticks, loaded.scene.world.ticks)
+    warm_up()
+    with tempfile.TemporaryDirectory(prefix="rustycs-bench-") as folder:
+
+        def timed_run(count: int) -> tuple[float, Any]:
+            began = time.perf_counter()
+            run = run_scene(loaded, Path(folder) / f"run-{count}.h5", count, every=1, quiet=True)
+            if run.status != "complete":
+                raise SystemExit(run.message or run.status)
+            return time.perf_counter() - began, run
+
+        timed_run(0)
+        setup, _ = timed_run(0)
+        elapsed, run = timed_run(ticks)
+    seconds = max(elapsed - setup, 0.0)
+    return dict(scene=loaded.scene.name, ticks=ticks, seconds=seconds, setup_seconds=setup,
+                ms_per_tick=1e3 * seconds / max(ticks, 1), step_seconds=run.summary["step_seconds"],
+                peak_memory_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
+
+
 def first_step() -> dict[str, float]:
     """Seconds to import rustycs and to run its first step (compile, or load the cached kernels)."""
     t0 = time.perf_counter()
@@ -102,11 +135,16 @@ def main(argv: list[str] | None = None) -> None:
     timed.add_argument("--max-ticks", type=int)
     timed.add_argument("--block", type=int, default=100)
     timed.add_argument("--metrics", default="")
+    recorded = sub.add_parser("record")
+    recorded.add_argument("scene")
+    recorded.add_argument("--max-ticks", type=int)
     sub.add_parser("first-step")
     args = parser.parse_args(argv)
     if args.mode == "step":
         metrics = [m for m in args.metrics.split(",") if m]
         result: dict[str, Any] = step(args.engine, args.scene, args.max_ticks, args.block, metrics)
+    elif args.mode == "record":
+        result = record(args.scene, args.max_ticks)
     else:
         result = first_step()
     sys.stdout.write(json.dumps(result) + "\n")

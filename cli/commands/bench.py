@@ -27,6 +27,8 @@ def command(
                                  help="Also the scaling series: 1k, 4k and 16k circles in a container."),
     compile_: bool = typer.Option(True, "--compile/--no-compile",
                                   help="Also time the cold and warm compile and the start-up."),
+    recording: bool = typer.Option(True, "--recording/--no-recording",
+                                   help="Also time `rustycs run` of S4 recording every tick (with S4)."),
     scene_dir: Path = typer.Option(None, "--scene-dir", help="Folder of the S*_*.yaml scenes (default: "
                                    "scenes/bench of the checkout)."),
     json: bool = typer.Option(False, "--json", help="Print the results as JSON on stdout, nothing else."),
@@ -56,6 +58,7 @@ def command(
                         "pip install 'rustycs[bench]'")
     plan = Plan(scenes=found, engines=("rustycs", *peer_engines.ENGINES) if peers else ("rustycs",),
                 reps=reps, max_ticks=ticks, block=block, compile=compile_, scaling=scaling,
+                recording=recording,
                 command=shlex.join(["rustycs", *sys.argv[1:]]))
 
     def progress(line: str) -> None:
