@@ -29,8 +29,12 @@ def build_world(scene: Scene) -> rustycs.World:
     for force in scene.forces:
         world.add_force(force.acceleration)
     for attractor in scene.attractors:
-        world.add_attractor(attractor.position, mass=attractor.mass, range=attractor.range,
-                            min_distance=attractor.min_distance)
+        world.add_attractor(
+            attractor.position,
+            mass=attractor.mass,
+            range=attractor.range,
+            min_distance=attractor.min_distance,
+        )
     for body in scene.bodies:
         material = scene.material_of(body)
         world.add_body(

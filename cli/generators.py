@@ -103,8 +103,11 @@ def _shape(spec: Any, draws: _Draws) -> dict[str, Any]:
     if isinstance(spec, RandomCircle):
         return {"type": "circle", "radius": draws.value(spec.radius, f"{field}.radius")}
     if isinstance(spec, (RandomAabb, RandomObb)):
-        return {"type": spec.type, "width": draws.value(spec.width, f"{field}.width"),
-                "height": draws.value(spec.height, f"{field}.height")}
+        return {
+            "type": spec.type,
+            "width": draws.value(spec.width, f"{field}.width"),
+            "height": draws.value(spec.height, f"{field}.height"),
+        }
     if isinstance(spec, Polygon):
         return {"type": "polygon", "vertices": [list(v) for v in spec.vertices]}
     assert isinstance(spec, RandomPolygon)
@@ -112,8 +115,10 @@ def _shape(spec: Any, draws: _Draws) -> dict[str, Any]:
     radius = draws.value(spec.radius, f"{field}.radius")
     step = 2.0 * math.pi / count
     phase = 2.0 * math.pi * draws.unit(f"{field}.angles")
-    angles = [phase + step * (k + POLYGON_JITTER * (2.0 * draws.unit(f"{field}.angles") - 1.0))
-              for k in range(count)]
+    angles = [
+        phase + step * (k + POLYGON_JITTER * (2.0 * draws.unit(f"{field}.angles") - 1.0))
+        for k in range(count)
+    ]
     return {"type": "polygon", "vertices": [[radius * math.cos(a), radius * math.sin(a)] for a in angles]}
 
 
@@ -122,8 +127,11 @@ def _positions(generator: Generator, count: int, draws: _Draws) -> list[list[flo
     layout = generator.layout
     if isinstance(layout, Pyramid):
         base, (x0, y0), (dx, dy) = layout.pyramid.base, layout.pyramid.origin, layout.pyramid.spacing
-        places = [[x0 + (i - (base - row - 1) / 2.0) * dx, y0 + row * dy]
-                  for row in range(base) for i in range(base - row)]
+        places = [
+            [x0 + (i - (base - row - 1) / 2.0) * dx, y0 + row * dy]
+            for row in range(base)
+            for i in range(base - row)
+        ]
         return places[:count]
     if isinstance(layout, Stack):
         (x0, y0), spacing = layout.stack.origin, layout.stack.spacing
@@ -140,8 +148,10 @@ def _positions(generator: Generator, count: int, draws: _Draws) -> list[list[flo
         return places
     assert generator.region is not None
     (xmin, ymin), (xmax, ymax) = generator.region.min, generator.region.max
-    return [[xmin + (xmax - xmin) * draws.unit("position"), ymin + (ymax - ymin) * draws.unit("position")]
-            for _ in range(count)]
+    return [
+        [xmin + (xmax - xmin) * draws.unit("position"), ymin + (ymax - ymin) * draws.unit("position")]
+        for _ in range(count)
+    ]
 
 
 def _count(generator: Generator) -> int:
@@ -163,8 +173,10 @@ def generate(generator: Generator, seed: int) -> list[dict[str, Any]]:
             "type": draws.value(generator.type, "type"),
             "shape": _shape(generator.shape, draws),
             "position": position,
-            "velocity": [draws.value(generator.velocity[0], "velocity.0"),
-                         draws.value(generator.velocity[1], "velocity.1")],
+            "velocity": [
+                draws.value(generator.velocity[0], "velocity.0"),
+                draws.value(generator.velocity[1], "velocity.1"),
+            ],
             "angle": draws.value(generator.angle, "angle"),
             "angular_velocity": draws.value(generator.angular_velocity, "angular_velocity"),
             "material": draws.value(generator.material, "material"),

@@ -77,8 +77,10 @@ def load_scene_text(
     document = parse_document(text, source)
     data = {} if document.data is None else document.data
     if not isinstance(data, dict):
-        raise UserError(f"{source}:1:1: a scene is a mapping of keys (version, world, bodies, ...), "
-                        f"not a {type(data).__name__}")
+        raise UserError(
+            f"{source}:1:1: a scene is a mapping of keys (version, world, bodies, ...), "
+            f"not a {type(data).__name__}"
+        )
     applied, override_errors = apply_overrides(data, overrides)
     changed = [(a.path, f"--set {a.text}") for a in applied]
     if seed is not None:
@@ -86,8 +88,10 @@ def load_scene_text(
         changed.append((("seed",), f"--seed {seed}"))
     data.setdefault("name", Path(source).stem)
     locate = _Locator(document, data, changed)
-    problems = [locate.at_node(node, path, f"duplicate key '{path[-1]}' (YAML keeps only the last)")
-                for node, path in duplicate_keys(document.root)]
+    problems = [
+        locate.at_node(node, path, f"duplicate key '{path[-1]}' (YAML keeps only the last)")
+        for node, path in duplicate_keys(document.root)
+    ]
     scene = _validate(data, locate, problems)
     if override_errors or problems:
         raise UserError(override_errors + _sorted(problems))
@@ -100,12 +104,11 @@ def load_scene_text(
 
 def _validate(data: dict[str, Any], locate: _Locator, problems: list[_Problem]) -> Scene | None:
     """The validated scene, or None with the problems added to `problems`."""
+    found = [locate.problem(loc, message) for loc, message in scene_problems(data)]
     try:
         scene = Scene.model_validate(data)
     except ValidationError as err:
-        problems += locate.pydantic_errors(err.errors())
-        return None
-    found = [locate.problem(loc, message) for loc, message in scene_problems(scene)]
+        found += locate.pydantic_errors(err.errors())
     problems += found
     return None if found else scene
 
@@ -186,8 +189,11 @@ class _Locator:
                 missing.append((loc, message))
                 continue
             problems.append(self.problem(loc, message, key_node=key_node))
-        problems += [self.problem(loc, message) for loc, message in missing
-                     if (*self._data_path(loc), loc[-1]) not in suggested]
+        problems += [
+            self.problem(loc, message)
+            for loc, message in missing
+            if (*self._data_path(loc), loc[-1]) not in suggested
+        ]
         return problems
 
     def _explain(self, error: ErrorDetails) -> tuple[Loc, str, bool]:
@@ -198,8 +204,15 @@ class _Locator:
         value = error.get("input")
         if kind == "missing":
             item = loc[-1]
-            return loc, (f"missing key '{item}'" if isinstance(item, str) else f"missing item {item} "
-                         "(too few items)"), False
+            return (
+                loc,
+                (
+                    f"missing key '{item}'"
+                    if isinstance(item, str)
+                    else f"missing item {item} (too few items)"
+                ),
+                False,
+            )
         if kind == "extra_forbidden":
             fields = self._fields_at(self._data_path(loc)[:-1])
             return loc, f"unknown key '{loc[-1]}'{did_you_mean(str(loc[-1]), fields)}", True
@@ -218,8 +231,13 @@ class _Locator:
 
     def problem(self, loc: Loc, message: str, key_node: bool = False) -> _Problem:
         """The message for a place in the scene data."""
-        if self.listed is not None and len(loc) >= 2 and loc[0] == "bodies" and isinstance(loc[1], int) \
-                and loc[1] >= self.listed:
+        if (
+            self.listed is not None
+            and len(loc) >= 2
+            and loc[0] == "bodies"
+            and isinstance(loc[1], int)
+            and loc[1] >= self.listed
+        ):
             return self._generated_problem(loc, message)
         path = self._data_path(loc)
         for changed_path, label in reversed(self.changed):
@@ -285,4 +303,3 @@ class _Locator:
             parts.append(name if in_named_list and isinstance(name, str) else str(part))
             data = item
         return ".".join(parts) or "scene"
-

@@ -20,6 +20,8 @@ from rustycs_cli.scene import (
     PRESET_MATERIALS,
     Scene,
     child_annotation,
+    default_body_name,
+    default_generator_name,
     did_you_mean,
     model_fields_at,
 )
@@ -94,8 +96,9 @@ def _set(data: dict[str, Any], key: str, value: Any) -> Path:
             annotation = child_annotation(annotation, step, container)
             container = container[step]
             if container is None:
-                raise _OverrideError(f"'{'.'.join(parts[: i + 1])}' is not set: set it whole "
-                                     f"({'.'.join(parts[: i + 1])}=...)")
+                raise _OverrideError(
+                    f"'{'.'.join(parts[: i + 1])}' is not set: set it whole ({'.'.join(parts[: i + 1])}=...)"
+                )
     return tuple(path)
 
 
@@ -138,8 +141,10 @@ def _list_index(items: list[Any], part: str, path: list[str | int], shown: list[
     choices = f"an index 0..{len(items) - 1}" if items else "none: the list is empty"
     if names:
         choices = f"a name or {choices}"
-    raise _OverrideError(f"unknown key '{'.'.join(shown)}': no item '{part}' in '{where}' ({choices})"
-                         f"{_suggest(part, names, shown)}")
+    raise _OverrideError(
+        f"unknown key '{'.'.join(shown)}': no item '{part}' in '{where}' ({choices})"
+        f"{_suggest(part, names, shown)}"
+    )
 
 
 def _item_names(list_name: str, items: list[Any]) -> list[str]:
@@ -150,8 +155,8 @@ def _item_names(list_name: str, items: list[Any]) -> list[str]:
         name = item.get("name")
         shape = item.get("shape")
         if name is None and list_name == "generators":
-            name = f"generator-{i}"
+            name = default_generator_name(i)
         elif name is None and list_name == "bodies" and isinstance(shape, dict):
-            name = f"{shape.get('type')}-{i}"
+            name = default_body_name(shape.get("type"), i)
         names.append(str(name) if name is not None else "")
     return names

@@ -15,7 +15,7 @@ import math
 import operator
 import types
 import typing
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Annotated, Any, Literal
 
 from pydantic import (
@@ -827,17 +827,19 @@ class Scene(_Model):
         ],
     )
     output: Output = Field(
-        Output(), description="Recording interval and whether contacts are recorded.", examples=[{"every": 1, "contacts": False}]
+        Output(),
+        description="Recording interval and whether contacts are recorded.",
+        examples=[{"every": 1, "contacts": False}],
     )
 
     @model_validator(mode="after")
     def _default_names(self) -> Scene:
         for i, body in enumerate(self.bodies):
             if body.name is None:
-                body.name = f"{body.shape.type}-{i}"
+                body.name = default_body_name(body.shape.type, i)
         for i, generator in enumerate(self.generators):
             if generator.name is None:
-                generator.name = f"generator-{i}"
+                generator.name = default_generator_name(i)
         return self
 
     def material_of(self, body: Body) -> Material:
@@ -847,10 +849,22 @@ class Scene(_Model):
         return self.materials.get(body.material) or PRESET_MATERIALS[body.material]
 
 
-def scene_problems(scene: Scene) -> list[Problem]:
-    """Problems that involve more than one field: duplicate names and unknown material names."""
+def default_body_name(shape_type: Any, index: int) -> str:
+    """The name of an unnamed body: '<shape type>-<index in bodies>'."""
+    return f"{shape_type}-{index}"
+
+
+def default_generator_name(index: int) -> str:
+    """The name of an unnamed generator."""
+    return f"generator-{index}"
+
+
+def scene_problems(data: Mapping[str, Any]) -> list[Problem]:
+    """Problems that involve more than one entry: duplicate names and unknown material names. Works on the
+    raw scene data, so that these are found even when other fields are invalid, and reported with them."""
     problems: list[Problem] = []
-    known = sorted({*PRESET_MATERIALS, *scene.materials})
+    materials = data.get("materials")
+    known = sorted({*PRESET_MATERIALS, *(map(str, materials) if isinstance(materials, dict) else ())})
 
     def check_material(ref: Any, loc: Loc) -> None:
         if isinstance(ref, str) and ref not in known:
@@ -858,26 +872,38 @@ def scene_problems(scene: Scene) -> list[Problem]:
                 (loc, f"unknown material '{ref}'{did_you_mean(ref, known)}; known: {', '.join(known)}")
             )
 
-    seen: dict[str, int] = {}
-    for i, body in enumerate(scene.bodies):
-        assert body.name is not None
-        if body.name in seen:
-            problems.append(
-                (("bodies", i, "name"), f"duplicate body name '{body.name}' (also body {seen[body.name]})")
-            )
-        seen.setdefault(body.name, i)
-        check_material(body.material, ("bodies", i, "material"))
+    def entries(key: str) -> list[tuple[int, dict[str, Any]]]:
+        listed = data.get(key)
+        return (
+            [(i, e) for i, e in enumerate(listed) if isinstance(e, dict)] if isinstance(listed, list) else []
+        )
+
+    def check_unique(name: Any, loc: Loc, seen: dict[str, int], what: str) -> None:
+        if isinstance(name, str) and name in seen:
+            problems.append((loc, f"duplicate {what} name '{name}' (also {what} {seen[name]})"))
+        elif isinstance(name, str):
+            seen[name] = int(loc[1])
+
+    body_names: dict[str, int] = {}
+    for i, body in entries("bodies"):
+        shape = body.get("shape")
+        default = default_body_name(shape.get("type") if isinstance(shape, dict) else None, i)
+        check_unique(body.get("name", default), ("bodies", i, "name"), body_names, "body")
+        check_material(body.get("material"), ("bodies", i, "material"))
     generator_names: dict[str, int] = {}
-    for g, generator in enumerate(scene.generators):
-        assert generator.name is not None
-        if generator.name in generator_names:
-            problems.append((("generators", g, "name"), f"duplicate generator name '{generator.name}'"))
-        generator_names.setdefault(generator.name, g)
-        if isinstance(generator.material, MaterialChoice):
-            for k, ref in enumerate(generator.material.choice):
+    for g, generator in entries("generators"):
+        check_unique(
+            generator.get("name", default_generator_name(g)),
+            ("generators", g, "name"),
+            generator_names,
+            "generator",
+        )
+        material = generator.get("material")
+        if isinstance(material, dict) and isinstance(material.get("choice"), list):
+            for k, ref in enumerate(material["choice"]):
                 check_material(ref, ("generators", g, "material", "choice", k))
         else:
-            check_material(generator.material, ("generators", g, "material"))
+            check_material(material, ("generators", g, "material"))
     return problems
 
 
@@ -944,5 +970,9 @@ def union_tags(annotation: Any) -> list[str]:
     if typing.get_origin(annotation) is not Annotated:
         return []
     inner = typing.get_args(annotation)[0]
-    return [m.tag for member in typing.get_args(inner) for m in getattr(member, "__metadata__", ())
-            if isinstance(m, Tag)]
+    return [
+        m.tag
+        for member in typing.get_args(inner)
+        for m in getattr(member, "__metadata__", ())
+        if isinstance(m, Tag)
+    ]

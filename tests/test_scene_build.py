@@ -7,6 +7,7 @@ import math
 import numpy as np
 from rustycs_cli.build import build_world, material_names
 from rustycs_cli.loading import load_scene_text
+from rustycs_cli.scene import PRESET_MATERIALS
 
 SCENE = """\
 world: {tick_rate: 120, precision: 7, gravitational_constant: 2.0, bounds: {min: [-50, -40], max: [50, 60]},
@@ -51,3 +52,11 @@ def test_build_world_carries_settings_and_bodies() -> None:
     # the wedge's centre of mass is its centroid (1, 1) from its origin
     np.testing.assert_allclose(world.centers[3], [-2, 2])
     assert material_names(scene) == ["stone", "metal", "inline", "default", "default"]
+
+
+def test_presets_are_the_engines() -> None:
+    import rustycs
+
+    assert {name: (m.density, m.restitution, m.friction) for name, m in PRESET_MATERIALS.items()} == {
+        name: (m.density, m.restitution, m.friction) for name, m in rustycs.MATERIALS.items()
+    }

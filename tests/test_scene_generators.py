@@ -49,6 +49,17 @@ def test_generated_bodies_follow_the_listed_ones_with_their_names() -> None:
     ]
 
 
+def test_generated_names_must_not_clash_with_listed_ones(tmp_path: Path) -> None:
+    path = tmp_path / "clash.yaml"
+    path.write_text(HEAD.replace("name: floor", "name: rain-2") + RAIN)
+    with pytest.raises(UserError) as raised:
+        load_scene(path)
+    assert raised.value.messages == [
+        f"{path}:5:11: generators.rain.name: generated body 'rain-2': duplicate body name 'rain-2' "
+        "(also body 0)"
+    ]
+
+
 def test_same_seed_gives_identical_bodies_different_seed_differs() -> None:
     first, again = generated(TWO_GENERATORS), generated(TWO_GENERATORS)
     assert first == again

@@ -257,6 +257,7 @@ def test_every_problem_at_once_sorted_by_line(tmp_path: Path) -> None:
         "bodies:\n"
         "  - {name: a, shape: {type: circle, radius: -1}, position: [0, 0], colour: red}\n"
         "  - {name: c, shape: {type: obb, width: 1}, position: [0, 0, 0]}\n"
+        "  - {name: a, shape: {type: circle, radius: 1}, position: [0, 0], material: glas}\n"
     )
     path, messages = problems(tmp_path, text)
     assert [m.split(": ")[0] for m in messages] == [
@@ -266,7 +267,10 @@ def test_every_problem_at_once_sorted_by_line(tmp_path: Path) -> None:
         f"{path}:3:68",
         f"{path}:4:22",
         f"{path}:4:55",
+        f"{path}:5:12",
+        f"{path}:5:77",
     ]
+    assert "duplicate body name 'a'" in messages[6] and "unknown material 'glas'" in messages[7]
     assert "missing key 'height'" in messages[4] and "unknown key 'colour'" in messages[3]
 
 
