@@ -118,8 +118,8 @@ class SummaryTracker:
             "final_potential_energy": float(end["potential_energy"]),
             "energy_drift": energy_drift,
             "relative_energy_drift": energy_drift / abs(energy_start) if energy_start else None,
-            "linear_momentum_drift": float(np.linalg.norm(
-                np.asarray(end["linear_momentum"]) - np.asarray(start["linear_momentum"]))),
+            "linear_momentum_drift": float(np.hypot(*(
+                np.asarray(end["linear_momentum"]) - np.asarray(start["linear_momentum"])))),
             "angular_momentum_drift": abs(float(end["angular_momentum"]) - float(start["angular_momentum"])),
             "max_penetration": self.max_penetration,
             "total_contact_points": self.total_contacts,

@@ -56,6 +56,8 @@ def find_pairs(hitbox, inv_mass, active, group):
     if not (math.isfinite(width) and math.isfinite(height)):
         return np.empty((0, 2), dtype=np.int64)  # a non-finite state: the step reports it
     cell = max(np.median(extents), 1e-9)
+    if not math.isfinite(cell):
+        return np.empty((0, 2), dtype=np.int64)
     max_cells = 4.0 * nd + 16.0
     while (width / cell + 1.0) * (height / cell + 1.0) > max_cells:
         cell *= 1.5

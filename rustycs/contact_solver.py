@@ -20,6 +20,8 @@ import math
 import numpy as np
 from numba import njit
 
+from rustycs.body_types import DYNAMIC
+
 CONTACT_HERTZ = 60.0
 DAMPING_RATIO = 10.0
 MAX_PUSH_SPEED = 3.0  # m/s: the fastest speed at which overlap is pushed apart
@@ -62,8 +64,11 @@ def load_bodies(v, w, inv_mass, inv_inertia):
 
 
 @njit(cache=True)
-def store_bodies(body, v, w):
+def store_bodies(body, v, w, body_type):
+    """Copy velocities back to the dynamic bodies (the others' velocities are theirs to keep)."""
     for i in range(v.shape[0]):
+        if body_type[i] != DYNAMIC:
+            continue
         v[i, 0] = body[i, VX]
         v[i, 1] = body[i, VY]
         w[i] = body[i, W]

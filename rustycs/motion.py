@@ -6,10 +6,8 @@ import math
 
 from numba import njit
 
+from rustycs.body_types import DYNAMIC, STATIC
 from rustycs.contact_solver import COS, DANGLE, DX, DY, SIN, VX, VY, W
-
-STATIC, DYNAMIC, KINEMATIC = 0, 1, 2
-BODY_TYPE_NAMES = ("static", "dynamic", "kinematic")
 
 
 @njit(cache=True)

@@ -7,7 +7,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rustycs.motion import DYNAMIC
+from rustycs.body_types import DYNAMIC
 
 
 @njit(cache=True)

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from rustycs.body_types import BODY_TYPE_NAMES, DYNAMIC
 from rustycs.kernel_cache import ensure_fresh
 from rustycs.materials import MATERIALS, Material
-from rustycs.motion import BODY_TYPE_NAMES, DYNAMIC
 from rustycs.shapes import AABB, KIND_NAMES, MAX_VERTICES, Shape, mass_properties
 
 _BODY_TYPES = {name: code for code, name in enumerate(BODY_TYPE_NAMES)}
