@@ -224,7 +224,7 @@ class _Locator:
             hint = did_you_mean(str(kind_value), tags)
             message = f"unknown shape type '{kind_value}'{hint}; expected one of: {', '.join(tags)}"
             return (*loc, "type"), message, False
-        message = error["msg"]
+        message = "expected a list of two values, like [x, y]" if kind == "tuple_type" else error["msg"]
         if isinstance(value, (int, float, str, bool)) and kind not in ("polygon", "aabb_angle", "rect"):
             message += f" (got {value!r})"
         return loc, message, False

@@ -201,6 +201,11 @@ def test_pentagram_is_self_intersecting(tmp_path: Path) -> None:
     assert len(messages) == 1 and "the polygon self-intersects" in messages[0]
 
 
+def test_pairs_must_be_lists_of_two(tmp_path: Path) -> None:
+    path, messages = problems(tmp_path, one_body("{type: circle, radius: 1}", "    velocity: 3\n"))
+    assert messages == [f"{path}:5:15: bodies.b.velocity: expected a list of two values, like [x, y] (got 3)"]
+
+
 def test_aabb_with_an_angle(tmp_path: Path) -> None:
     path, messages = problems(tmp_path, one_body("{type: aabb, width: 1, height: 1}", "    angle: 0.3\n"))
     assert messages == [
