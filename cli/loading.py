@@ -125,7 +125,7 @@ def _expand(scene: Scene, locate: _Locator) -> Scene:
     problems: list[_Problem] = []
     full = _validate(data, locate, problems)
     if problems:
-        raise UserError(_sorted(_unique(problems)))
+        raise UserError(_sorted(problems))
     assert full is not None
     return full
 
@@ -243,7 +243,7 @@ class _Locator:
         for changed_path, label in reversed(self.changed):
             if path[: len(changed_path)] == changed_path:
                 return _Problem((0, 0, 0), f"{label}: {self._dotted(path)}: {message}")
-        node, _ = find_node(self.document.root, path, key=key_node)
+        node = find_node(self.document.root, path, key=key_node)
         return self.at_node(node, path, message)
 
     def at_node(self, node: Node | None, path: Loc, message: str) -> _Problem:

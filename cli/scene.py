@@ -38,7 +38,6 @@ Problem = tuple[Loc, str]
 _VEC2_SCHEMA = {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2}
 Vec2 = Annotated[tuple[float, float], WithJsonSchema(_VEC2_SCHEMA)]
 BodyType = Literal["static", "dynamic", "kinematic"]
-SHAPE_TYPES = ("circle", "aabb", "obb", "polygon")
 MAX_VERTICES = 8
 
 # Tolerances of the polygon checks: below them a polygon counts as degenerate.

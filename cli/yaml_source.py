@@ -68,10 +68,10 @@ def where(node: Node) -> tuple[int, int]:
     return node.start_mark.line + 1, node.start_mark.column + 1
 
 
-def find_node(root: Node | None, path: Path, key: bool = False) -> tuple[Node | None, int]:
+def find_node(root: Node | None, path: Path, key: bool = False) -> Node | None:
     """The node at `path` (the key's node instead of its value when `key`), or the deepest node on the
-    way there; also how many path elements were matched."""
-    node, matched = root, 0
+    way there."""
+    node = root
     for i, part in enumerate(path):
         child = None
         if isinstance(node, MappingNode):
@@ -82,8 +82,8 @@ def find_node(root: Node | None, path: Path, key: bool = False) -> tuple[Node | 
             child = node.value[part]
         if child is None:
             break
-        node, matched = child, i + 1
-    return node, matched
+        node = child
+    return node
 
 
 def duplicate_keys(root: Node | None) -> list[tuple[Node, Path]]:
