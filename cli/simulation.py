@@ -151,14 +151,18 @@ def warm_up() -> None:
     world.step(1)
 
 
+THREAD_STOP = threading.Event()
+"""Set by the main thread to stop runs going on in other threads (which cannot receive signals)."""
+
+
 @contextmanager
 def _stop_requests() -> Iterator[Callable[[], bool]]:
     """While active, SIGINT and SIGTERM only set a flag (yields a function reading it), so the loop can
     finish its block and close the file. Outside the main thread (where signals cannot be caught) the
-    flag never rises."""
+    flag is THREAD_STOP."""
     requested: list[int] = []
     if threading.current_thread() is not threading.main_thread():
-        yield lambda: False
+        yield THREAD_STOP.is_set
         return
     previous = {sig: signal.signal(sig, lambda signum, _frame: requested.append(signum))
                 for sig in (signal.SIGINT, signal.SIGTERM)}

@@ -225,11 +225,14 @@ def dispatch(
     record: Callable[[VariantOutcome], None],
     workers: int,
     scheduler: str | None = None,
+    local: str = "threads",
 ) -> bool:
     """Run the tasks, passing each outcome to `record` as it arrives; True when interrupted.
 
-    In this process when one worker suffices, otherwise on a local process pool or, with a scheduler
-    address, on a Dask cluster. The sweep stops at Ctrl-C or at the first interrupted variant.
+    In this process when one worker suffices; otherwise, locally, as a batch of worlds stepping in
+    parallel threads of this process (`local="threads"`: the engine's step releases the GIL, and the
+    compiled kernels are loaded once) or on a process pool (`"processes"`); with a scheduler address,
+    on a Dask cluster. The sweep stops at Ctrl-C or at the first interrupted variant.
     """
     if not tasks:
         return False
@@ -249,10 +252,18 @@ def dispatch(
             return _run_on_executor(executor, tasks, record, len(tasks), stop)
         finally:
             client.close()
+    window = min(workers, len(tasks))
+    if local == "threads":
+        from concurrent.futures import ThreadPoolExecutor
+
+        from rustycs_cli.simulation import THREAD_STOP
+
+        THREAD_STOP.clear()
+        with ThreadPoolExecutor(window) as pool:
+            return _run_on_executor(pool, tasks, record, window, THREAD_STOP.set)
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    window = min(workers, len(tasks))
     context = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(window, mp_context=context, initializer=_ignore_sigint) as pool:
         return _run_on_executor(pool, tasks, record, window, _interrupt_pool_workers)
@@ -365,6 +376,7 @@ def run_sweep(
     scheduler: str | None = None,
     on_outcome: Callable[[Variant, VariantOutcome], None] | None = None,
     quiet: bool = False,
+    local: str = "threads",
 ) -> SweepResult:
     """Skip finished variants, run the others, write sweep.csv and sweep.json, and return the result.
 
@@ -388,7 +400,8 @@ def run_sweep(
             _compile_engine_once(quiet)
         with _terminate_as_interrupt():
             result.interrupted = dispatch(
-                pending, lambda outcome: _record(result, by_index, outcome, on_outcome), workers, scheduler
+                pending, lambda outcome: _record(result, by_index, outcome, on_outcome), workers, scheduler,
+                local,
             )
     except KeyboardInterrupt:  # between two variants run in this process
         result.interrupted = True

@@ -70,11 +70,12 @@ def read_rows(out: Path) -> tuple[list[dict], list[dict]]:
         return json.loads((out / "sweep.json").read_text()), list(csv.DictReader(handle))
 
 
-def test_grid_2x3_with_range_then_resume(cli, tiny, tmp_path, compiled_engine):
+@pytest.mark.parametrize("local", ["threads", "processes"])
+def test_grid_2x3_with_range_then_resume(cli, tiny, tmp_path, compiled_engine, local):
     out = tmp_path / "grid"
     args = ("sweep", tiny, "-p", "world.precision=range(2,8,2)", "-p", "bodies.ball.material=rubber,metal",
             "-s", "world.ticks=12", "--out", out)
-    result = cli(*args, "--workers", "2", "--json")
+    result = cli(*args, "--workers", "2", "--local", local, "--json")
     assert result.exit_code == 0, result.stderr
     rows, csv_rows = read_rows(out)
     assert json.loads(result.stdout) == rows
@@ -228,14 +229,17 @@ def test_keyboard_interrupt_between_variants_then_resume(cli, tiny, tmp_path, mo
 
 
 @pytest.mark.usefixtures("compiled_engine")
-@pytest.mark.parametrize("signum, whole_group", [(signal.SIGINT, True), (signal.SIGTERM, False)])
-def test_signal_stops_a_pool_sweep(tiny, tmp_path, signum, whole_group):
+@pytest.mark.parametrize("signum, whole_group, local", [(signal.SIGINT, True, "processes"),
+                                                        (signal.SIGTERM, False, "processes"),
+                                                        (signal.SIGINT, True, "threads")])
+def test_signal_stops_a_pool_sweep(tiny, tmp_path, signum, whole_group, local):
     """Ctrl-C in a terminal (SIGINT to the process group) or SIGTERM to the sweep alone: running
     variants stop with valid files, the third never starts, the tables are written, exit 130."""
     out = tmp_path / "sig"
     process = subprocess.Popen(
         [sys.executable, "-c", "from rustycs_cli.app import main; main()", "sweep", str(tiny),
-         "-p", "world.precision=3,5,7", "--ticks", "100000000", "--out", str(out), "-w", "2", "--json"],
+         "-p", "world.precision=3,5,7", "--ticks", "100000000", "--out", str(out), "-w", "2", "--local", local,
+         "--json"],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
     )
     deadline = time.monotonic() + 120

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import typer
+from rustycs_cli.errors import UserError
 
 NAME = "sweep"
 
@@ -26,7 +27,12 @@ def command(
         None, "--out", "-o", metavar="DIR", help="Output folder (default: outputs/<scene name>-sweep/)."
     ),
     workers: int | None = typer.Option(
-        None, "--workers", "-w", min=1, help="Local worker processes (default: the number of cores)."
+        None, "--workers", "-w", min=1, help="Local workers (default: the number of cores)."
+    ),
+    local: str = typer.Option(
+        "threads", "--local", metavar="threads|processes",
+        help="How local workers run: 'threads' steps the variants as a batch of worlds in parallel "
+        "threads of one process (faster: see README), 'processes' one process per variant.",
     ),
     scheduler: str | None = typer.Option(
         None, "--scheduler", metavar="ADDRESS",
@@ -60,10 +66,13 @@ def command(
     from rustycs_cli.sweep_report import print_sweep_table, report_problems, variant_progress
     from rustycs_cli.sweep_values import parse_swept_keys
 
+    if local not in ("threads", "processes"):
+        raise UserError(f"--local: expected 'threads' or 'processes', got {local!r}")
     plan = plan_sweep(scene, parse_swept_keys(params), sets, out, ticks, every)
     show = not (quiet or as_json)
     with variant_progress(not quiet, len(plan.variants), f"sweep {plan.scene_name}") as on_outcome:
-        result = run_sweep(plan, workers or default_workers(), scheduler, on_outcome, quiet=quiet)
+        result = run_sweep(plan, workers or default_workers(), scheduler, on_outcome, quiet=quiet,
+                           local=local)
     if as_json:
         print(to_json(result.rows()))
     elif show:
