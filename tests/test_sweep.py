@@ -238,8 +238,8 @@ def test_signal_stops_a_pool_sweep(tiny, tmp_path, signum, whole_group, local):
     out = tmp_path / "sig"
     process = subprocess.Popen(
         [sys.executable, "-c", "from rustycs_cli.app import main; main()", "sweep", str(tiny),
-         "-p", "world.precision=3,5,7", "--ticks", "100000000", "--out", str(out), "-w", "2", "--local", local,
-         "--json"],
+         "-p", "world.precision=3,5,7", "--ticks", "100000000", "--out", str(out), "-w", "2",
+         "--local", local, "--json"],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
     )
     deadline = time.monotonic() + 120
