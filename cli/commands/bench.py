@@ -12,13 +12,13 @@ NAME = "bench"
 
 
 def command(
-    ids: list[str] = typer.Argument(None, metavar="[SCENE_ID]...", show_default=False,
+    ids: list[str] = typer.Argument(None, metavar="SCENE_ID", show_default=False,
                                     help="Scene ids to run, like --scenes."),
     scenes: list[str] = typer.Option([], "--scenes", metavar="ID", show_default=False,
                                      help="Scenes to run: S1 .. S6 (repeatable, or comma-separated; "
                                      "default: all)."),
     peers: bool = typer.Option(False, "--peers", help="Also step the same bodies in pymunk and Box2D v3 "
-                               "(pyb2d3), from the `bench` extra: pip install 'rustycs[bench]'."),
+                               "(pyb2d3), from the `bench` extra: pip install 'rustycs\\[bench]'."),
     reps: int = typer.Option(3, "--reps", min=1, help="Repetitions, each in a fresh process."),
     ticks: int = typer.Option(None, "--ticks", min=1, help="Step at most N ticks per run (default: the "
                               "scene's world.ticks; the scaling series runs 300)."),
@@ -38,7 +38,7 @@ def command(
 ) -> None:
     """Measure ms per tick of the bench scenes (median and min of --reps fresh processes, stepping only),
     with --peers beside pymunk and Box2D v3 (ratio rustycs / peer), plus quality at the end of each run,
-    compile and start-up times and a scaling series.
+    compile and start-up times, the cost of recording every tick (rustycs run, S4) and a scaling series.
 
     Exit codes: 0 all measured, 1 a measurement failed (diverged or crashed), 2 invalid input or the peer
     engines are missing.
