@@ -57,6 +57,7 @@ def run(plan: Plan, progress: Callable[[str], None]) -> dict[str, Any]:
         limited = plan.max_ticks if plan.max_ticks is not None else SCALING_TICKS
         result["scaling"] = _series(dataclasses.replace(plan, max_ticks=limited), refs, progress)
     result["meta"]["wall_s"] = round(time.time() - began, 1)
+    result["meta"]["load_average_end"] = os.getloadavg()  # other work on the machine: a noise indicator
     return result
 
 
@@ -148,7 +149,8 @@ def _meta(plan: Plan) -> dict[str, Any]:
     return {
         "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "cpu": _cpu_model(), "cores": os.cpu_count(),
         "platform": platform.platform(), "python": platform.python_version(), "command": plan.command,
-        "reps": plan.reps, "max_ticks": plan.max_ticks, "block": plan.block, "versions": versions,
+        "load_average_start": os.getloadavg(), "reps": plan.reps, "max_ticks": plan.max_ticks,
+        "block": plan.block, "versions": versions,
         "peer_settings": {e: PEER_SETTINGS[e] for e in plan.engines if e in PEER_SETTINGS},
     }
 
