@@ -114,6 +114,18 @@ def _max_separation(va, na, ca, vb, cb):
 
 
 @njit(cache=True)
+def _clip(px, py, qx, qy, dp, dq, lo, hi):
+    """Move p along the segment towards q until its tangent coordinate dp lies in [lo, hi]."""
+    if dp > hi:
+        f = (dp - hi) / (dp - dq)
+    elif dp < lo:
+        f = (lo - dp) / (dq - dp)
+    else:
+        return px, py
+    return px + f * (qx - px), py + f * (qy - py)
+
+
+@njit(cache=True)
 def collide_polygons(va, na, ca, vb, nb, cb, margin, normal, points, separations, ids):
     edge_a, sep_a = _max_separation(va, na, ca, vb, cb)
     if sep_a > margin:
@@ -160,23 +172,8 @@ def collide_polygons(va, na, ca, vb, nb, cb, margin, normal, points, separations
     # the incident edge runs against the reference edge, so d1 > d2 normally
     if (d1 < lo and d2 < lo) or (d1 > hi and d2 > hi):
         return 0
-    q1x, q1y, q2x, q2y = p1x, p1y, p2x, p2y
-    if d1 > hi:
-        f = (d1 - hi) / (d1 - d2)
-        q1x = p1x + f * (p2x - p1x)
-        q1y = p1y + f * (p2y - p1y)
-    elif d1 < lo:
-        f = (lo - d1) / (d2 - d1)
-        q1x = p1x + f * (p2x - p1x)
-        q1y = p1y + f * (p2y - p1y)
-    if d2 > hi:
-        f = (d2 - hi) / (d2 - d1)
-        q2x = p2x + f * (p1x - p2x)
-        q2y = p2y + f * (p1y - p2y)
-    elif d2 < lo:
-        f = (lo - d2) / (d1 - d2)
-        q2x = p2x + f * (p1x - p2x)
-        q2y = p2y + f * (p1y - p2y)
+    q1x, q1y = _clip(p1x, p1y, p2x, p2y, d1, d2, lo, hi)
+    q2x, q2y = _clip(p2x, p2y, p1x, p1y, d2, d1, lo, hi)
     base = (flip << 7) | (ref << 4) | (inc << 1)
     count = 0
     for slot in range(2):
