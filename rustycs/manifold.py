@@ -15,11 +15,26 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
+from rustycs.contact_solver import (
+    FRICTION,
+    MANIFOLD_COLUMNS,
+    NX,
+    NY,
+    POINT_COLUMNS,
+    RAX,
+    RAY,
+    RBX,
+    RBY,
+    RESTITUTION,
+    SEPARATION,
+)
 from rustycs.shapes import CIRCLE
 
 LINEAR_SLOP = 0.005
+FEATURE_BITS = 8  # a point's key: ((a * n + b) << FEATURE_BITS) | feature id
 REFERENCE_TOLERANCE = 0.1 * LINEAR_SLOP
 
 
@@ -48,20 +63,21 @@ def collide_circles(xa, ya, ra, xb, yb, rb, margin, normal, points, separations,
 
 
 @njit(cache=True)
-def collide_polygon_circle(verts, normals, count, cx, cy, r, margin, normal, points, separations, ids):
-    """Polygon (first) against circle (second); the normal points from the polygon to the circle."""
+def collide_polygon_circle(verts, normals, counts, i, cx, cy, r, margin, normal, points, separations, ids):
+    """Polygon i against a circle; the normal points from the polygon to the circle."""
+    count = counts[i]
     best = -math.inf
     edge = 0
     for k in range(count):
-        s = normals[k, 0] * (cx - verts[k, 0]) + normals[k, 1] * (cy - verts[k, 1])
+        s = normals[i, k, 0] * (cx - verts[i, k, 0]) + normals[i, k, 1] * (cy - verts[i, k, 1])
         if s > best:
             best = s
             edge = k
     if best - r > margin:
         return 0
     k2 = edge + 1 if edge + 1 < count else 0
-    v1x, v1y = verts[edge, 0], verts[edge, 1]
-    v2x, v2y = verts[k2, 0], verts[k2, 1]
+    v1x, v1y = verts[i, edge, 0], verts[i, edge, 1]
+    v2x, v2y = verts[i, k2, 0], verts[i, k2, 1]
     u1 = (cx - v1x) * (v2x - v1x) + (cy - v1y) * (v2y - v1y)
     u2 = (cx - v2x) * (v1x - v2x) + (cy - v2y) * (v1y - v2y)
     if best > 1e-12 and (u1 < 0.0 or u2 < 0.0):
@@ -78,8 +94,8 @@ def collide_polygon_circle(verts, normals, count, cx, cy, r, margin, normal, poi
         ax, ay = vx, vy
     else:
         # face region (also when the centre is inside: push out through the nearest face)
-        nx = normals[edge, 0]
-        ny = normals[edge, 1]
+        nx = normals[i, edge, 0]
+        ny = normals[i, edge, 1]
         sep = best - r
         ax = cx - best * nx
         ay = cy - best * ny
@@ -93,18 +109,18 @@ def collide_polygon_circle(verts, normals, count, cx, cy, r, margin, normal, poi
 
 
 @njit(cache=True)
-def _max_separation(va, na, ca, vb, cb):
+def _max_separation(verts, normals, counts, a, b):
     """Edge of polygon a with the greatest separation of polygon b's vertices from it."""
     best = -math.inf
     edge = 0
-    for i in range(ca):
-        nx = na[i, 0]
-        ny = na[i, 1]
-        px = va[i, 0]
-        py = va[i, 1]
+    for i in range(counts[a]):
+        nx = normals[a, i, 0]
+        ny = normals[a, i, 1]
+        px = verts[a, i, 0]
+        py = verts[a, i, 1]
         s = math.inf
-        for j in range(cb):
-            d = nx * (vb[j, 0] - px) + ny * (vb[j, 1] - py)
+        for j in range(counts[b]):
+            d = nx * (verts[b, j, 0] - px) + ny * (verts[b, j, 1] - py)
             if d < s:
                 s = d
         if s > best:
@@ -126,42 +142,43 @@ def _clip(px, py, qx, qy, dp, dq, lo, hi):
 
 
 @njit(cache=True)
-def collide_polygons(va, na, ca, vb, nb, cb, margin, normal, points, separations, ids):
-    edge_a, sep_a = _max_separation(va, na, ca, vb, cb)
+def collide_polygons(verts, normals, counts, a, b, margin, normal, points, separations, ids):
+    """Polygons a and b; the normal points from a to b."""
+    edge_a, sep_a = _max_separation(verts, normals, counts, a, b)
     if sep_a > margin:
         return 0
-    edge_b, sep_b = _max_separation(vb, nb, cb, va, ca)
+    edge_b, sep_b = _max_separation(verts, normals, counts, b, a)
     if sep_b > margin:
         return 0
     if sep_b > sep_a + REFERENCE_TOLERANCE:
-        rv, rn, rc, ref = vb, nb, cb, edge_b
-        iv, inn, ic = va, na, ca
+        r, ref, i = b, edge_b, a
         flip = 1
     else:
-        rv, rn, rc, ref = va, na, ca, edge_a
-        iv, inn, ic = vb, nb, cb
+        r, ref, i = a, edge_a, b
         flip = 0
-    nx = rn[ref, 0]
-    ny = rn[ref, 1]
+    rc = counts[r]
+    ic = counts[i]
+    nx = normals[r, ref, 0]
+    ny = normals[r, ref, 1]
     # incident edge: the one whose normal is most anti-parallel to the reference normal
     inc = 0
     lowest = math.inf
     for k in range(ic):
-        d = nx * inn[k, 0] + ny * inn[k, 1]
+        d = nx * normals[i, k, 0] + ny * normals[i, k, 1]
         if d < lowest:
             lowest = d
             inc = k
     inc2 = inc + 1 if inc + 1 < ic else 0
     ref2 = ref + 1 if ref + 1 < rc else 0
-    r1x, r1y = rv[ref, 0], rv[ref, 1]
-    r2x, r2y = rv[ref2, 0], rv[ref2, 1]
+    r1x, r1y = verts[r, ref, 0], verts[r, ref, 1]
+    r2x, r2y = verts[r, ref2, 0], verts[r, ref2, 1]
     tx = r2x - r1x
     ty = r2y - r1y
     tl = math.sqrt(tx * tx + ty * ty)
     tx /= tl
     ty /= tl
-    p1x, p1y = iv[inc, 0], iv[inc, 1]
-    p2x, p2y = iv[inc2, 0], iv[inc2, 1]
+    p1x, p1y = verts[i, inc, 0], verts[i, inc, 1]
+    p2x, p2y = verts[i, inc2, 0], verts[i, inc2, 1]
     # clip the incident segment to the slab between the reference edge's side planes
     lo = r1x * tx + r1y * ty
     hi = r2x * tx + r2y * ty
@@ -197,21 +214,78 @@ def collide_polygons(va, na, ca, vb, nb, cb, margin, normal, points, separations
 
 
 @njit(cache=True)
-def collide(a, b, x, kind, radius, nverts, world_verts, world_normals, margin,
-            normal, points, separations, ids):
-    """Manifold of bodies a and b (a < b), normal from a to b. Returns the number of points."""
-    if kind[a] == CIRCLE and kind[b] == CIRCLE:
-        return collide_circles(x[a, 0], x[a, 1], radius[a], x[b, 0], x[b, 1], radius[b],
-                               margin, normal, points, separations, ids)
-    if kind[b] == CIRCLE:
-        return collide_polygon_circle(world_verts[a], world_normals[a], nverts[a], x[b, 0], x[b, 1],
-                                      radius[b], margin, normal, points, separations, ids)
-    if kind[a] == CIRCLE:
-        count = collide_polygon_circle(world_verts[b], world_normals[b], nverts[b], x[a, 0], x[a, 1],
-                                       radius[a], margin, normal, points, separations, ids)
-        normal[0] = -normal[0]
-        normal[1] = -normal[1]
-        return count
-    return collide_polygons(world_verts[a], world_normals[a], nverts[a],
-                            world_verts[b], world_normals[b], nverts[b],
-                            margin, normal, points, separations, ids)
+def _speed(v, i):
+    return math.sqrt(v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1])
+
+
+@njit(cache=True)
+def narrow_phase(pairs, x, v, kind, radius, nverts, world_verts, world_normals, friction, restitution,
+                 margin, dt):
+    """Manifolds of the candidate pairs, in pair order, and their points in feature order.
+
+    A pair's points are kept within `margin` plus both bodies' travel in one tick (dt). Returns the
+    manifold rows (body a, body b, first point, point count, normal/friction/restitution row), each
+    point's key (a, b, feature id packed into one int64), world position, and solver row (anchors
+    relative to both centres of mass, separation).
+    """
+    n = x.shape[0]
+    n_pairs = pairs.shape[0]
+    m_a = np.empty(n_pairs, dtype=np.int64)
+    m_b = np.empty(n_pairs, dtype=np.int64)
+    m_first = np.empty(n_pairs, dtype=np.int64)
+    m_count = np.empty(n_pairs, dtype=np.int64)
+    manifold = np.empty((n_pairs, MANIFOLD_COLUMNS))
+    p_key = np.empty(2 * n_pairs, dtype=np.int64)
+    p_point = np.empty((2 * n_pairs, 2))
+    point = np.zeros((2 * n_pairs, POINT_COLUMNS))
+    normal = np.zeros(2)
+    points = np.zeros((2, 2))
+    separations = np.zeros(2)
+    ids = np.zeros(2, dtype=np.int64)
+    n_man = 0
+    n_pts = 0
+    for k in range(n_pairs):
+        a = pairs[k, 0]
+        b = pairs[k, 1]
+        reach = margin + dt * (_speed(v, a) + _speed(v, b))
+        # dispatch written out here rather than in a function taking every array: a call passing a
+        # dozen arrays per pair cost more than the collision test itself
+        if kind[a] == CIRCLE and kind[b] == CIRCLE:
+            count = collide_circles(x[a, 0], x[a, 1], radius[a], x[b, 0], x[b, 1], radius[b],
+                                    reach, normal, points, separations, ids)
+        elif kind[b] == CIRCLE:
+            count = collide_polygon_circle(world_verts, world_normals, nverts, a, x[b, 0], x[b, 1],
+                                           radius[b], reach, normal, points, separations, ids)
+        elif kind[a] == CIRCLE:
+            count = collide_polygon_circle(world_verts, world_normals, nverts, b, x[a, 0], x[a, 1],
+                                           radius[a], reach, normal, points, separations, ids)
+            normal[0] = -normal[0]
+            normal[1] = -normal[1]
+        else:
+            count = collide_polygons(world_verts, world_normals, nverts, a, b, reach,
+                                     normal, points, separations, ids)
+        if count == 0:
+            continue
+        swap = count == 2 and ids[0] > ids[1]
+        m_a[n_man] = a
+        m_b[n_man] = b
+        manifold[n_man, NX] = normal[0]
+        manifold[n_man, NY] = normal[1]
+        manifold[n_man, FRICTION] = 0.5 * (friction[a] + friction[b])
+        manifold[n_man, RESTITUTION] = 0.5 * (restitution[a] + restitution[b])
+        m_first[n_man] = n_pts
+        m_count[n_man] = count
+        n_man += 1
+        for j in range(count):
+            src = 1 - j if swap else j
+            p_key[n_pts] = ((a * n + b) << FEATURE_BITS) | ids[src]
+            p_point[n_pts, 0] = points[src, 0]
+            p_point[n_pts, 1] = points[src, 1]
+            point[n_pts, RAX] = points[src, 0] - x[a, 0]
+            point[n_pts, RAY] = points[src, 1] - x[a, 1]
+            point[n_pts, RBX] = points[src, 0] - x[b, 0]
+            point[n_pts, RBY] = points[src, 1] - x[b, 1]
+            point[n_pts, SEPARATION] = separations[src]
+            n_pts += 1
+    return (m_a[:n_man], m_b[:n_man], m_first[:n_man], m_count[:n_man], manifold[:n_man],
+            p_key[:n_pts], p_point[:n_pts], point[:n_pts])

@@ -7,25 +7,15 @@ contact points (sorted by key: body a, body b, feature id) are both the warm-sta
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
 
 from rustycs.broad_phase import find_pairs
 from rustycs.contact_solver import (
     CONTACT_HERTZ,
-    FRICTION,
-    MANIFOLD_COLUMNS,
     NORMAL_IMPULSE,
     NX,
     NY,
-    POINT_COLUMNS,
-    RAX,
-    RAY,
-    RBX,
-    RBY,
-    RESTITUTION,
     SEPARATION,
     TANGENT_IMPULSE,
     load_bodies,
@@ -36,20 +26,14 @@ from rustycs.contact_solver import (
     warm_start,
 )
 from rustycs.hitbox import update_geometry
-from rustycs.manifold import LINEAR_SLOP, collide
+from rustycs.manifold import LINEAR_SLOP, narrow_phase
 from rustycs.motion import apply_bounds, first_non_finite, integrate_positions, integrate_velocities
 
 SPECULATIVE_DISTANCE = 4.0 * LINEAR_SLOP
-FEATURE_BITS = 8
 
 # layout of the `settings` array
 DT, SUBSTEPS, RESTITUTION_THRESHOLD, HAS_BOUNDS, BOUNDS = 0, 1, 2, 3, 4
 SETTINGS_SIZE = 8
-
-
-@njit(cache=True)
-def _speed(v, i):
-    return math.sqrt(v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1])
 
 
 @njit(cache=True, nogil=True)
@@ -73,10 +57,6 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
     world_verts = np.zeros((n, local_verts.shape[1], 2))
     world_normals = np.zeros((n, local_verts.shape[1], 2))
     hitbox = np.zeros((n, 4))
-    normal = np.zeros(2)
-    points = np.zeros((2, 2))
-    separations = np.zeros(2)
-    ids = np.zeros(2, dtype=np.int64)
     escaped = 0
     for tick in range(n_ticks):
         bad = first_non_finite(x, angle, v, w, body_type, active)
@@ -85,52 +65,11 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
         update_geometry(x, angle, v, kind, radius, nverts, local_verts, local_normals, active,
                         SPECULATIVE_DISTANCE, dt, world_verts, world_normals, hitbox)
         pairs = find_pairs(hitbox, inv_mass, active, group)
-        n_pairs = pairs.shape[0]
-
-        # narrow phase: manifolds in pair order, points in feature order
-        m_a = np.empty(n_pairs, dtype=np.int64)
-        m_b = np.empty(n_pairs, dtype=np.int64)
-        m_first = np.empty(n_pairs, dtype=np.int64)
-        m_count = np.empty(n_pairs, dtype=np.int64)
-        manifold = np.empty((n_pairs, MANIFOLD_COLUMNS))
-        cap = 2 * n_pairs
-        p_key = np.empty(cap, dtype=np.int64)
-        p_point = np.empty((cap, 2))
-        point = np.zeros((cap, POINT_COLUMNS))
-        n_man = 0
-        n_pts = 0
-        for k in range(n_pairs):
-            a = pairs[k, 0]
-            b = pairs[k, 1]
-            margin = SPECULATIVE_DISTANCE + dt * (_speed(v, a) + _speed(v, b))
-            count = collide(a, b, x, kind, radius, nverts, world_verts, world_normals, margin,
-                            normal, points, separations, ids)
-            if count == 0:
-                continue
-            swap = count == 2 and ids[0] > ids[1]
-            m_a[n_man] = a
-            m_b[n_man] = b
-            manifold[n_man, NX] = normal[0]
-            manifold[n_man, NY] = normal[1]
-            manifold[n_man, FRICTION] = 0.5 * (friction[a] + friction[b])
-            manifold[n_man, RESTITUTION] = 0.5 * (restitution[a] + restitution[b])
-            m_first[n_man] = n_pts
-            m_count[n_man] = count
-            n_man += 1
-            for j in range(count):
-                src = 1 - j if swap else j
-                p_key[n_pts] = ((a * n + b) << FEATURE_BITS) | ids[src]
-                p_point[n_pts, 0] = points[src, 0]
-                p_point[n_pts, 1] = points[src, 1]
-                point[n_pts, RAX] = points[src, 0] - x[a, 0]
-                point[n_pts, RAY] = points[src, 1] - x[a, 1]
-                point[n_pts, RBX] = points[src, 0] - x[b, 0]
-                point[n_pts, RBY] = points[src, 1] - x[b, 1]
-                point[n_pts, SEPARATION] = separations[src]
-                n_pts += 1
-        m_a = m_a[:n_man]
-        m_b = m_b[:n_man]
-        p_key = p_key[:n_pts]
+        m_a, m_b, m_first, m_count, manifold, p_key, p_point, point = narrow_phase(
+            pairs, x, v, kind, radius, nverts, world_verts, world_normals, friction, restitution,
+            SPECULATIVE_DISTANCE, dt)
+        n_man = m_a.shape[0]
+        n_pts = p_key.shape[0]
 
         # warm start from last tick's impulses of the same (a, b, feature)
         if c_key.shape[0] > 0:

@@ -1,8 +1,8 @@
 """Narrow phase against hand-computed manifolds: normal (from body a to body b), depth, contact points
 (midway between the two surfaces) and feature ids, for every shape pair.
 
-Bodies are placed with `pose` (shape, body origin, angle) and collided through `manifold.collide`, the
-dispatcher the step uses, so circle-first pairs check the flipped normal too.
+Bodies are placed with `pose` (shape, body origin, angle) and collided through `manifold.narrow_phase`,
+as the step does, so circle-first pairs check the flipped normal too.
 """
 
 from __future__ import annotations
@@ -12,7 +12,8 @@ import math
 import numpy as np
 import pytest
 
-from rustycs.manifold import collide, collide_circles
+from rustycs.contact_solver import NX, NY, SEPARATION
+from rustycs.manifold import FEATURE_BITS, collide_circles, narrow_phase
 from rustycs.shapes import MAX_VERTICES, Box, Circle, Polygon, mass_properties
 
 MARGIN = 0.02
@@ -43,12 +44,14 @@ def collide_pair(a, b, margin=MARGIN):
             out = np.stack([edges[:, 1], -edges[:, 0]], axis=1)
             verts[i, :k] = world
             normals[i, :k] = out / np.linalg.norm(out, axis=1)[:, None]
-    normal = np.zeros(2)
-    points = np.zeros((2, 2))
-    separations = np.zeros(2)
-    ids = np.zeros(2, np.int64)
-    count = collide(0, 1, x, kind, radius, nverts, verts, normals, margin, normal, points, separations, ids)
-    return normal.copy(), points[:count].copy(), -separations[:count], ids[:count].copy()
+    pairs = np.array([[0, 1]], np.int64)
+    _, _, _, _, manifold, keys, points, rows = narrow_phase(
+        pairs, x, np.zeros((n, 2)), kind, radius, nverts, verts, normals, np.zeros(n), np.zeros(n),
+        margin, 0.0)
+    if len(manifold) == 0:
+        return np.zeros(2), np.zeros((0, 2)), np.zeros(0), np.zeros(0, np.int64)
+    return (manifold[0, NX:NY + 1].copy(), points.copy(), -rows[:, SEPARATION],
+            keys & ((1 << FEATURE_BITS) - 1))
 
 
 def by_x(points, depths):
