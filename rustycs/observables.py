@@ -52,3 +52,28 @@ def energies_and_momenta(x, v, w, mass, inertia, inv_inertia, body_type, active,
         potential -= m * (gravity[0] * x[i, 0] + gravity[1] * x[i, 1])
         potential += m * attractor_potential(x[i, 0], x[i, 1], att_pos, att_gm, att_range, att_min_distance)
     return kinetic, potential, momentum, angular
+
+
+@njit(cache=True)
+def contact_statistics(separation, normal_impulse):
+    """Touching points (overlapping or carrying load) and the deepest overlap among the last tick's
+    contact points, without building the contact list."""
+    count = 0
+    deepest = 0.0
+    for p in range(separation.shape[0]):
+        if separation[p] <= 0.0 or normal_impulse[p] > 0.0:
+            count += 1
+            deepest = max(deepest, -separation[p])
+    return count, deepest
+
+
+@njit(cache=True)
+def body_origins(x, angle, origin_offset):
+    """Body origins: each centre of mass plus its rotated offset to the origin."""
+    out = np.empty_like(x)
+    for i in range(x.shape[0]):
+        c = math.cos(angle[i])
+        s = math.sin(angle[i])
+        out[i, 0] = x[i, 0] + c * origin_offset[i, 0] - s * origin_offset[i, 1]
+        out[i, 1] = x[i, 1] + s * origin_offset[i, 0] + c * origin_offset[i, 1]
+    return out

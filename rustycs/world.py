@@ -189,9 +189,10 @@ class World:
     @property
     def positions(self) -> np.ndarray:
         """Body origins: the centre of mass plus the rotated offset to the origin."""
-        x, angle, off = self._get("x"), self._get("angle"), self._get("origin_offset")
-        c, s = np.cos(angle), np.sin(angle)
-        return x + np.stack([c * off[:, 0] - s * off[:, 1], s * off[:, 0] + c * off[:, 1]], axis=1)
+        from rustycs.observables import body_origins
+
+        k = self.body_count
+        return body_origins(self._a["x"][:k], self._a["angle"][:k], self._a["origin_offset"][:k])
 
     @property
     def angles(self) -> np.ndarray:
@@ -250,7 +251,7 @@ class World:
 
     def observables(self) -> dict:
         """Energies and momenta of the dynamic bodies; contact count and deepest overlap of the last tick."""
-        from rustycs.observables import energies_and_momenta
+        from rustycs.observables import contact_statistics, energies_and_momenta
 
         k = self.body_count
         a = {name: arr[:k] for name, arr in self._a.items()}
@@ -261,11 +262,10 @@ class World:
             np.array([self.gravitational_constant * t["mass"] for t in att], dtype=np.float64),
             np.array([t["range"] for t in att], dtype=np.float64),
             np.array([t["min_distance"] for t in att], dtype=np.float64))
-        contacts = self.contacts()
+        count, deepest = contact_statistics(self._cache[5], self._cache[6])
         return dict(kinetic_energy=float(kinetic), potential_energy=float(potential),
                     linear_momentum=np.array(momentum), angular_momentum=float(angular),
-                    contact_count=int(len(contacts["depth"])),
-                    max_penetration=float(contacts["depth"].max()) if len(contacts["depth"]) else 0.0)
+                    contact_count=int(count), max_penetration=float(deepest))
 
     def contacts(self) -> dict:
         """The last tick's touching contact points (overlapping or carrying load), sorted by key."""
