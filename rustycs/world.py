@@ -60,6 +60,7 @@ class World:
         self.escaped_count = 0
         self.body_count = 0
         self._gravity = np.zeros(2)
+        self._inputs: dict | None = None  # the kernels' inputs, rebuilt when bodies or forces change
         self._attractors: list[dict] = []
         self._a = {name: np.zeros((0,) + shape, dtype) for name, (shape, dtype) in self._FIELDS.items()}
         self._cache = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64),
@@ -69,12 +70,14 @@ class World:
     def add_force(self, acceleration) -> None:
         """Add a constant acceleration felt by every dynamic body (gravity, wind)."""
         self._gravity = self._gravity + np.asarray(acceleration, dtype=np.float64)
+        self._inputs = None
 
     def add_attractor(self, position, mass: float, range: float | None = None,
                       min_distance: float = 0.01) -> None:
         """Add a fixed point pulling dynamic bodies; `range` None makes it global."""
         if not min_distance > 0:
             raise ValueError("min_distance must be > 0")
+        self._inputs = None
         self._attractors.append(dict(position=np.asarray(position, dtype=np.float64), mass=float(mass),
                                      range=np.inf if range is None else float(range),
                                      min_distance=float(min_distance)))
@@ -137,9 +140,26 @@ class World:
         a["active"][i] = True
         a["group"][i] = collision_group
         self.body_count += 1
+        self._inputs = None
         return i
 
     # ------------------------------------------------------------------ stepping
+    def _kernel_inputs(self) -> dict:
+        """The arrays the kernels take, built once per change of the world's make-up, so that stepping
+        and recording tick by tick cost little Python."""
+        if self._inputs is None:
+            k = self.body_count
+            att = self._attractors
+            self._inputs = dict(
+                {name: arr[:k] for name, arr in self._a.items()},
+                gravity=self._gravity,
+                att_pos=np.array([t["position"] for t in att], dtype=np.float64).reshape(-1, 2),
+                att_gm=np.array([self.gravitational_constant * t["mass"] for t in att], dtype=np.float64),
+                att_range=np.array([t["range"] for t in att], dtype=np.float64),
+                att_min=np.array([t["min_distance"] for t in att], dtype=np.float64),
+            )
+        return self._inputs
+
     def _settings(self) -> np.ndarray:
         settings = np.zeros(8)
         settings[0] = self.dt
@@ -157,18 +177,12 @@ class World:
 
         if n <= 0:
             return
-        k = self.body_count
-        a = {name: arr[:k] for name, arr in self._a.items()}
-        att = self._attractors
-        att_pos = np.array([t["position"] for t in att], dtype=np.float64).reshape(-1, 2)
-        att_gm = np.array([self.gravitational_constant * t["mass"] for t in att], dtype=np.float64)
-        att_range = np.array([t["range"] for t in att], dtype=np.float64)
-        att_min = np.array([t["min_distance"] for t in att], dtype=np.float64)
+        a = self._kernel_inputs()
         result = step_world(
             n, a["x"], a["angle"], a["v"], a["w"], a["inv_mass"], a["inv_inertia"], a["body_type"],
             a["kind"], a["radius"], a["nverts"], a["local_verts"], a["local_normals"], a["restitution"],
-            a["friction"], a["active"], a["group"], self._gravity, att_pos, att_gm, att_range, att_min,
-            self._settings(), *self._cache)
+            a["friction"], a["active"], a["group"], a["gravity"], a["att_pos"], a["att_gm"], a["att_range"],
+            a["att_min"], self._settings(), *self._cache)
         bad, done, escaped = result[0], result[1], result[2]
         self._cache = result[3:]
         self.escaped_count += escaped
@@ -253,15 +267,10 @@ class World:
         """Energies and momenta of the dynamic bodies; contact count and deepest overlap of the last tick."""
         from rustycs.observables import contact_statistics, energies_and_momenta
 
-        k = self.body_count
-        a = {name: arr[:k] for name, arr in self._a.items()}
-        att = self._attractors
+        a = self._kernel_inputs()
         kinetic, potential, momentum, angular = energies_and_momenta(
             a["x"], a["v"], a["w"], a["mass"], a["inertia"], a["inv_inertia"], a["body_type"], a["active"],
-            self._gravity, np.array([t["position"] for t in att], dtype=np.float64).reshape(-1, 2),
-            np.array([self.gravitational_constant * t["mass"] for t in att], dtype=np.float64),
-            np.array([t["range"] for t in att], dtype=np.float64),
-            np.array([t["min_distance"] for t in att], dtype=np.float64))
+            a["gravity"], a["att_pos"], a["att_gm"], a["att_range"], a["att_min"])
         count, deepest = contact_statistics(self._cache[5], self._cache[6])
         return dict(kinetic_energy=float(kinetic), potential_energy=float(potential),
                     linear_momentum=np.array(momentum), angular_momentum=float(angular),
