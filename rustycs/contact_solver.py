@@ -32,7 +32,8 @@ BODY_COLUMNS = 10
 # columns of a contact point row
 RAX, RAY, RBX, RBY, SEPARATION, ADJUSTED_SEPARATION, NORMAL_MASS, TANGENT_MASS = 0, 1, 2, 3, 4, 5, 6, 7
 NORMAL_IMPULSE, TANGENT_IMPULSE, MAX_NORMAL_IMPULSE, RELATIVE_VELOCITY = 8, 9, 10, 11
-POINT_COLUMNS = 12
+RNA, RNB, RTA, RTB = 12, 13, 14, 15  # anchors crossed with the normal and the tangent
+POINT_COLUMNS = 16
 # columns of a manifold row
 NX, NY, FRICTION, RESTITUTION = 0, 1, 2, 3
 MANIFOLD_COLUMNS = 4
@@ -93,12 +94,12 @@ def prepare(m_a, m_b, manifold, m_first, m_count, point, body):
         tx, ty = ny, -nx
         for p in range(m_first[m], m_first[m] + m_count[m]):
             pt = point[p]
-            rna = pt[RAX] * ny - pt[RAY] * nx
-            rnb = pt[RBX] * ny - pt[RBY] * nx
+            rna = pt[RNA] = pt[RAX] * ny - pt[RAY] * nx
+            rnb = pt[RNB] = pt[RBX] * ny - pt[RBY] * nx
             k = ma + mb + ia * rna * rna + ib * rnb * rnb
             pt[NORMAL_MASS] = 1.0 / k if k > 0.0 else 0.0
-            rta = pt[RAX] * ty - pt[RAY] * tx
-            rtb = pt[RBX] * ty - pt[RBY] * tx
+            rta = pt[RTA] = pt[RAX] * ty - pt[RAY] * tx
+            rtb = pt[RTB] = pt[RBX] * ty - pt[RBY] * tx
             k = ma + mb + ia * rta * rta + ib * rtb * rtb
             pt[TANGENT_MASS] = 1.0 / k if k > 0.0 else 0.0
             pt[ADJUSTED_SEPARATION] = pt[SEPARATION] - ((pt[RBX] - pt[RAX]) * nx + (pt[RBY] - pt[RAY]) * ny)
@@ -169,38 +170,36 @@ def solve(m_a, m_b, manifold, m_first, m_count, point, body, h, contact_hertz, u
                 bias = max(rate * s, -MAX_PUSH_SPEED)
                 mass_scale = mscale
                 impulse_scale = iscale
-            vn = ((vbx - wb * rby) - (vax - wa * ray)) * nx + ((vby + wb * rbx) - (vay + wa * rax)) * ny
+            # the velocity chain from one point to the next is kept short: cross products precomputed
+            rna, rnb = point[p, RNA], point[p, RNB]
+            vn = (vbx - vax) * nx + (vby - vay) * ny + (wb * rnb - wa * rna)
             old = point[p, NORMAL_IMPULSE]
             total = max(old - point[p, NORMAL_MASS] * mass_scale * (vn + bias) - impulse_scale * old, 0.0)
             impulse = total - old
             point[p, NORMAL_IMPULSE] = total
             point[p, MAX_NORMAL_IMPULSE] = max(point[p, MAX_NORMAL_IMPULSE], impulse)
-            px = impulse * nx
-            py = impulse * ny
-            vax -= ma * px
-            vay -= ma * py
-            wa -= ia * (rax * py - ray * px)
-            vbx += mb * px
-            vby += mb * py
-            wb += ib * (rbx * py - rby * px)
+            vax -= ma * nx * impulse
+            vay -= ma * ny * impulse
+            wa -= ia * rna * impulse
+            vbx += mb * nx * impulse
+            vby += mb * ny * impulse
+            wb += ib * rnb * impulse
         tx, ty = ny, -nx
         mu = manifold[m, FRICTION]
         for p in range(first, last):
-            rax, ray, rbx, rby = point[p, RAX], point[p, RAY], point[p, RBX], point[p, RBY]
-            vt = ((vbx - wb * rby) - (vax - wa * ray)) * tx + ((vby + wb * rbx) - (vay + wa * rax)) * ty
+            rta, rtb = point[p, RTA], point[p, RTB]
+            vt = (vbx - vax) * tx + (vby - vay) * ty + (wb * rtb - wa * rta)
             limit = mu * point[p, NORMAL_IMPULSE]
             old = point[p, TANGENT_IMPULSE]
             total = min(max(old - point[p, TANGENT_MASS] * vt, -limit), limit)
             point[p, TANGENT_IMPULSE] = total
             impulse = total - old
-            px = impulse * tx
-            py = impulse * ty
-            vax -= ma * px
-            vay -= ma * py
-            wa -= ia * (rax * py - ray * px)
-            vbx += mb * px
-            vby += mb * py
-            wb += ib * (rbx * py - rby * px)
+            vax -= ma * tx * impulse
+            vay -= ma * ty * impulse
+            wa -= ia * rta * impulse
+            vbx += mb * tx * impulse
+            vby += mb * ty * impulse
+            wb += ib * rtb * impulse
         body[a, VX], body[a, VY], body[a, W] = vax, vay, wa
         body[b, VX], body[b, VY], body[b, W] = vbx, vby, wb
 
