@@ -12,15 +12,16 @@ from rustycs.shapes import CIRCLE
 
 @njit(cache=True)
 def update_geometry(x, angle, v, kind, radius, nverts, local_verts, local_normals, active,
-                    margin, dt, world_verts, world_normals, hitbox):
+                    margin, dt, world_verts, world_normals, hitbox, reach):
     """Rotate each polygon from its rest shape (never incrementally, so shapes keep their size)
-    and compute its hitbox, fattened by the speculative margin plus one tick of travel."""
+    and compute its hitbox, fattened by its reach: the speculative margin plus one tick of travel."""
     n = x.shape[0]
     for i in range(n):
         if not active[i]:
             continue
         px, py = x[i, 0], x[i, 1]
         fat = margin + dt * math.sqrt(v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1])
+        reach[i] = fat
         if kind[i] == CIRCLE:
             r = radius[i]
             hitbox[i, 0] = px - r - fat

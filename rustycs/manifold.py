@@ -214,16 +214,12 @@ def collide_polygons(verts, normals, counts, a, b, margin, normal, points, separ
 
 
 @njit(cache=True)
-def _speed(v, i):
-    return math.sqrt(v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1])
-
-
-@njit(cache=True)
-def narrow_phase(pairs, x, v, kind, radius, nverts, world_verts, world_normals, friction, restitution,
-                 margin, dt):
+def narrow_phase(pairs, x, reach, kind, radius, nverts, world_verts, world_normals, friction, restitution,
+                 margin):
     """Manifolds of the candidate pairs, in pair order, and their points in feature order.
 
-    A pair's points are kept within `margin` plus both bodies' travel in one tick (dt). Returns the
+    A pair's points are kept within `margin` plus both bodies' travel in one tick (each body's reach is
+    the margin plus its travel). Returns the
     manifold rows (body a, body b, first point, point count, normal/friction/restitution row), each
     point's key (a, b, feature id packed into one int64), world position, and solver row (anchors
     relative to both centres of mass, separation).
@@ -247,22 +243,22 @@ def narrow_phase(pairs, x, v, kind, radius, nverts, world_verts, world_normals, 
     for k in range(n_pairs):
         a = pairs[k, 0]
         b = pairs[k, 1]
-        reach = margin + dt * (_speed(v, a) + _speed(v, b))
+        within = reach[a] + reach[b] - margin
         # dispatch written out here rather than in a function taking every array: a call passing a
         # dozen arrays per pair cost more than the collision test itself
         if kind[a] == CIRCLE and kind[b] == CIRCLE:
             count = collide_circles(x[a, 0], x[a, 1], radius[a], x[b, 0], x[b, 1], radius[b],
-                                    reach, normal, points, separations, ids)
+                                    within, normal, points, separations, ids)
         elif kind[b] == CIRCLE:
             count = collide_polygon_circle(world_verts, world_normals, nverts, a, x[b, 0], x[b, 1],
-                                           radius[b], reach, normal, points, separations, ids)
+                                           radius[b], within, normal, points, separations, ids)
         elif kind[a] == CIRCLE:
             count = collide_polygon_circle(world_verts, world_normals, nverts, b, x[a, 0], x[a, 1],
-                                           radius[a], reach, normal, points, separations, ids)
+                                           radius[a], within, normal, points, separations, ids)
             normal[0] = -normal[0]
             normal[1] = -normal[1]
         else:
-            count = collide_polygons(world_verts, world_normals, nverts, a, b, reach,
+            count = collide_polygons(world_verts, world_normals, nverts, a, b, within,
                                      normal, points, separations, ids)
         if count == 0:
             continue

@@ -57,17 +57,18 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
     world_verts = np.zeros((n, local_verts.shape[1], 2))
     world_normals = np.zeros((n, local_verts.shape[1], 2))
     hitbox = np.zeros((n, 4))
+    reach = np.zeros(n)
     escaped = 0
     for tick in range(n_ticks):
         bad = first_non_finite(x, angle, v, w, body_type, active)
         if bad >= 0:  # set from outside between blocks: report it before it spreads
             return bad, tick, escaped, c_key, c_a, c_b, c_point, c_normal, c_sep, c_jn, c_jt
         update_geometry(x, angle, v, kind, radius, nverts, local_verts, local_normals, active,
-                        SPECULATIVE_DISTANCE, dt, world_verts, world_normals, hitbox)
+                        SPECULATIVE_DISTANCE, dt, world_verts, world_normals, hitbox, reach)
         pairs = find_pairs(hitbox, inv_mass, active, group)
         m_a, m_b, m_first, m_count, manifold, p_key, p_point, point = narrow_phase(
-            pairs, x, v, kind, radius, nverts, world_verts, world_normals, friction, restitution,
-            SPECULATIVE_DISTANCE, dt)
+            pairs, x, reach, kind, radius, nverts, world_verts, world_normals, friction, restitution,
+            SPECULATIVE_DISTANCE)
         n_man = m_a.shape[0]
         n_pts = p_key.shape[0]
 

@@ -46,8 +46,8 @@ def collide_pair(a, b, margin=MARGIN):
             normals[i, :k] = out / np.linalg.norm(out, axis=1)[:, None]
     pairs = np.array([[0, 1]], np.int64)
     _, _, _, _, manifold, keys, points, rows = narrow_phase(
-        pairs, x, np.zeros((n, 2)), kind, radius, nverts, verts, normals, np.zeros(n), np.zeros(n),
-        margin, 0.0)
+        pairs, x, np.full(n, margin), kind, radius, nverts, verts, normals, np.zeros(n), np.zeros(n),
+        margin)
     if len(manifold) == 0:
         return np.zeros(2), np.zeros((0, 2)), np.zeros(0), np.zeros(0, np.int64)
     return (manifold[0, NX:NY + 1].copy(), points.copy(), -rows[:, SEPARATION],
