@@ -72,14 +72,15 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
         n_man = m_a.shape[0]
         n_pts = p_key.shape[0]
 
-        # warm start from last tick's impulses of the same (a, b, feature)
-        if c_key.shape[0] > 0:
-            found = np.searchsorted(c_key, p_key)
-            for p in range(n_pts):
-                f = found[p]
-                if f < c_key.shape[0] and c_key[f] == p_key[p]:
-                    point[p, NORMAL_IMPULSE] = c_jn[f]
-                    point[p, TANGENT_IMPULSE] = c_jt[f]
+        # warm start from last tick's impulses of the same (a, b, feature): both key lists are
+        # sorted, so one merge pass finds them
+        f = 0
+        for p in range(n_pts):
+            while f < c_key.shape[0] and c_key[f] < p_key[p]:
+                f += 1
+            if f < c_key.shape[0] and c_key[f] == p_key[p]:
+                point[p, NORMAL_IMPULSE] = c_jn[f]
+                point[p, TANGENT_IMPULSE] = c_jt[f]
 
         body = load_bodies(v, w, inv_mass, inv_inertia)
         prepare(m_a, m_b, manifold, m_first, m_count, point, body)
