@@ -299,7 +299,9 @@ def _run_on_executor(
                 running[executor.submit(run_variants, [task])] = task
             if not running:
                 return False
-            done, _ = wait(running, return_when=FIRST_COMPLETED)
+            # a short timeout: a signal caught by a worker thread only runs its handler once the main
+            # thread wakes, which a wait without timeout would put off until a variant finishes
+            done, _ = wait(running, timeout=0.1, return_when=FIRST_COMPLETED)
             for future in done:
                 collect(future)
     except KeyboardInterrupt:

@@ -4,7 +4,8 @@ The grid covers the hitboxes of the dynamic bodies only and its cell size follow
 so the cost grows near-linearly with evenly spread bodies. Static and kinematic bodies are inserted
 clipped to that domain, so a huge floor costs one row of cells. A pair is reported once, by the cell
 holding the lower corner of the two hitboxes' intersection. Pairs come out sorted by (a, b): the
-order the solver relies on for determinism.
+order the solver relies on for determinism. The buffers are the caller's and are reused tick after
+tick, so a tick allocates nothing once they have grown to the scene.
 """
 
 from __future__ import annotations
@@ -27,23 +28,64 @@ def _cell(value, origin, inv_cell, count):
     return int(min(max((value - origin) * inv_cell, 0.0), count - 1.0))
 
 
+BODY_BITS = 28  # a pair's key: (a << BODY_BITS) | b, so that keys sort by (a, b)
+BODY_MASK = (1 << BODY_BITS) - 1
+
+
 @njit(cache=True)
-def find_pairs(hitbox, inv_mass, active, group):
-    """Return candidate pairs (P, 2), a < b, sorted, with at least one dynamic body each."""
+def grid_scratch_size(n):
+    """Integers of scratch `find_pairs` needs for n bodies: cell ranges, dynamic bodies, cell counts."""
+    return 13 * n + 33
+
+
+@njit(cache=True)
+def _select(values, k):
+    """The k-th smallest of `values` (reordered in place): a deterministic quickselect."""
+    lo = 0
+    hi = values.shape[0] - 1
+    while lo < hi:
+        pivot = values[(lo + hi) // 2]
+        i = lo
+        j = hi
+        while i <= j:
+            while values[i] < pivot:
+                i += 1
+            while values[j] > pivot:
+                j -= 1
+            if i <= j:
+                values[i], values[j] = values[j], values[i]
+                i += 1
+                j -= 1
+        if k <= j:
+            hi = j
+        elif k >= i:
+            lo = i
+        else:
+            break
+    return values[k]
+
+
+@njit(cache=True)
+def find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, keys):
+    """Candidate pairs as sorted keys (a << BODY_BITS) | b, a < b, each with a dynamic body.
+
+    `grid` (grid_scratch_size(n) integers) and `extents` (n floats) are scratch; `cells` and `keys`
+    are scratch that grows as needed. Returns (count, cells, keys) with the pairs in keys[:count].
+    Nothing is allocated in a tick whose buffers are large enough.
+    """
     n = hitbox.shape[0]
-    dynamic = np.empty(n, dtype=np.int64)
+    dynamic = grid[:n]
     nd = 0
     for i in range(n):
         if active[i] and inv_mass[i] > 0.0:
             dynamic[nd] = i
             nd += 1
     if nd == 0:
-        return np.empty((0, 2), dtype=np.int64)
+        return 0, cells, keys
     lo_x = np.inf
     lo_y = np.inf
     hi_x = -np.inf
     hi_y = -np.inf
-    extents = np.empty(nd)
     for k in range(nd):
         i = dynamic[k]
         lo_x = min(lo_x, hitbox[i, 0])
@@ -54,21 +96,24 @@ def find_pairs(hitbox, inv_mass, active, group):
     width = hi_x - lo_x
     height = hi_y - lo_y
     if not (math.isfinite(width) and math.isfinite(height)):
-        return np.empty((0, 2), dtype=np.int64)  # a non-finite state: the step reports it
-    cell = max(np.median(extents), 1e-9)
-    if not math.isfinite(cell):
-        return np.empty((0, 2), dtype=np.int64)
+        return 0, cells, keys  # a non-finite state: the step reports it
+    # the cell size only decides speed, never which pairs are found
+    cell = max(_select(extents[:nd], nd // 2), 1e-9)
     max_cells = 4.0 * nd + 16.0
     while (width / cell + 1.0) * (height / cell + 1.0) > max_cells:
         cell *= 1.5
     nx = int(width / cell) + 1
     ny = int(height / cell) + 1
+    n_cells = nx * ny
     inv_cell = 1.0 / cell
 
-    # cell ranges of every active body that touches the domain
-    ranges = np.full((n, 4), -1, dtype=np.int64)
-    counts = np.zeros(nx * ny + 1, dtype=np.int64)
+    # cell ranges (x0, y0, x1, y1) of every active body that touches the domain
+    ranges = grid[n:5 * n]
+    counts = grid[5 * n:5 * n + n_cells + 1]
+    fill = grid[9 * n + 17:9 * n + 17 + n_cells]
+    counts[:] = 0
     for i in range(n):
+        ranges[4 * i] = -1
         if not active[i]:
             continue
         inside = hitbox[i, 2] >= lo_x and hitbox[i, 0] <= hi_x
@@ -78,29 +123,29 @@ def find_pairs(hitbox, inv_mass, active, group):
         y0 = _cell(hitbox[i, 1], lo_y, inv_cell, ny)
         x1 = _cell(hitbox[i, 2], lo_x, inv_cell, nx)
         y1 = _cell(hitbox[i, 3], lo_y, inv_cell, ny)
-        ranges[i, 0] = x0
-        ranges[i, 1] = y0
-        ranges[i, 2] = x1
-        ranges[i, 3] = y1
+        ranges[4 * i] = x0
+        ranges[4 * i + 1] = y0
+        ranges[4 * i + 2] = x1
+        ranges[4 * i + 3] = y1
         for cy in range(y0, y1 + 1):
             for cx in range(x0, x1 + 1):
                 counts[cy * nx + cx + 1] += 1
-    for c in range(nx * ny):
+    for c in range(n_cells):
         counts[c + 1] += counts[c]
-    cells = np.empty(counts[nx * ny], dtype=np.int64)
-    fill = counts[:-1].copy()
+    if counts[n_cells] > cells.shape[0]:
+        cells = np.empty(2 * counts[n_cells], dtype=np.int64)
+    fill[:] = counts[:n_cells]
     for i in range(n):
-        if ranges[i, 0] < 0:
+        if ranges[4 * i] < 0:
             continue
-        for cy in range(ranges[i, 1], ranges[i, 3] + 1):
-            for cx in range(ranges[i, 0], ranges[i, 2] + 1):
+        for cy in range(ranges[4 * i + 1], ranges[4 * i + 3] + 1):
+            for cx in range(ranges[4 * i], ranges[4 * i + 2] + 1):
                 c = cy * nx + cx
                 cells[fill[c]] = i
                 fill[c] += 1
 
-    keys = np.empty(16 * nd + 16, dtype=np.int64)
     count = 0
-    for c in range(nx * ny):
+    for c in range(n_cells):
         start = counts[c]
         end = counts[c + 1]
         cx = c % nx
@@ -116,21 +161,13 @@ def find_pairs(hitbox, inv_mass, active, group):
                 if not _overlap(hitbox, i, j):
                     continue
                 # report the pair only in the cell of the intersection's lower corner
-                ox = max(ranges[i, 0], ranges[j, 0])
-                oy = max(ranges[i, 1], ranges[j, 1])
-                if ox != cx or oy != cy:
+                if max(ranges[4 * i], ranges[4 * j]) != cx or max(ranges[4 * i + 1], ranges[4 * j + 1]) != cy:
                     continue
                 if count == keys.shape[0]:
-                    grown = np.empty(2 * count, dtype=np.int64)
+                    grown = np.empty(2 * count + 16, dtype=np.int64)
                     grown[:count] = keys
                     keys = grown
-                a = min(i, j)
-                b = max(i, j)
-                keys[count] = a * n + b
+                keys[count] = (min(i, j) << BODY_BITS) | max(i, j)
                 count += 1
-    keys = np.sort(keys[:count])
-    pairs = np.empty((count, 2), dtype=np.int64)
-    for k in range(count):
-        pairs[k, 0] = keys[k] // n
-        pairs[k, 1] = keys[k] % n
-    return pairs
+    keys[:count].sort()
+    return count, cells, keys

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from rustycs.body_types import DYNAMIC
@@ -50,18 +49,20 @@ def softness(hertz, zeta, h):
 
 
 @njit(cache=True)
-def load_bodies(v, w, inv_mass, inv_inertia):
-    """Solver rows of the bodies: velocities, inverse masses, displacement since the narrow phase."""
-    n = v.shape[0]
-    body = np.zeros((n, BODY_COLUMNS))
-    for i in range(n):
+def load_bodies(v, w, inv_mass, inv_inertia, body):
+    """Fill the solver rows of the bodies: velocities, inverse masses, no displacement yet since the
+    narrow phase."""
+    for i in range(v.shape[0]):
         body[i, VX] = v[i, 0]
         body[i, VY] = v[i, 1]
         body[i, W] = w[i]
         body[i, INV_MASS] = inv_mass[i]
         body[i, INV_INERTIA] = inv_inertia[i]
+        body[i, DX] = 0.0
+        body[i, DY] = 0.0
+        body[i, DANGLE] = 0.0
         body[i, COS] = 1.0
-    return body
+        body[i, SIN] = 0.0
 
 
 @njit(cache=True)
@@ -133,15 +134,13 @@ def warm_start(m_a, m_b, manifold, m_first, m_count, point, body):
 
 
 @njit(cache=True)
-def solve(m_a, m_b, manifold, m_first, m_count, point, body, h, contact_hertz, use_bias):
+def solve(m_a, m_b, manifold, m_first, m_count, point, body, inv_h, soft, stiff, use_bias):
     """One pass over all contacts; with `use_bias` the soft position bias pushes overlap apart.
 
-    Both bodies' velocities stay in locals while their manifold is solved (fewer loads and stores).
+    `soft` and `stiff` are the softness (bias rate, mass scale, impulse scale) of contacts between
+    two movable bodies and against an immovable one, for substeps of 1 / inv_h seconds. Both bodies'
+    velocities stay in locals while their manifold is solved (fewer loads and stores).
     """
-    inv_h = 1.0 / h
-    soft = softness(contact_hertz, DAMPING_RATIO, h)
-    # contacts against an immovable body are stiffer: only one side gives way
-    stiff = softness(2.0 * contact_hertz, DAMPING_RATIO, h)
     for m in range(m_a.shape[0]):
         a = m_a[m]
         b = m_b[m]

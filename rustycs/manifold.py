@@ -18,9 +18,11 @@ import math
 import numpy as np
 from numba import njit
 
+from rustycs.broad_phase import BODY_BITS, BODY_MASK
 from rustycs.contact_solver import (
     FRICTION,
     MANIFOLD_COLUMNS,
+    NORMAL_IMPULSE,
     NX,
     NY,
     POINT_COLUMNS,
@@ -30,11 +32,12 @@ from rustycs.contact_solver import (
     RBY,
     RESTITUTION,
     SEPARATION,
+    TANGENT_IMPULSE,
 )
 from rustycs.shapes import CIRCLE
 
 LINEAR_SLOP = 0.005
-FEATURE_BITS = 8  # a point's key: ((a * n + b) << FEATURE_BITS) | feature id
+FEATURE_BITS = 8  # a point's key: (pair key << FEATURE_BITS) | feature id
 REFERENCE_TOLERANCE = 0.1 * LINEAR_SLOP
 
 
@@ -214,35 +217,34 @@ def collide_polygons(verts, normals, counts, a, b, margin, normal, points, separ
 
 
 @njit(cache=True)
-def narrow_phase(pairs, x, reach, kind, radius, nverts, world_verts, world_normals, friction, restitution,
-                 margin):
-    """Manifolds of the candidate pairs, in pair order, and their points in feature order.
+def contact_buffers(capacity):
+    """Buffers the narrow phase fills, for up to `capacity` pairs: manifold rows (body a, body b,
+    first point, point count, normal/friction/restitution), point keys, world positions and solver
+    rows, and a pair's scratch (normal, points, separations, feature ids)."""
+    return (np.empty(capacity, np.int64), np.empty(capacity, np.int64), np.empty(capacity, np.int64),
+            np.empty(capacity, np.int64), np.empty((capacity, MANIFOLD_COLUMNS)),
+            np.empty(2 * capacity, np.int64), np.empty((2 * capacity, 2)),
+            np.zeros((2 * capacity, POINT_COLUMNS)),
+            np.zeros(2), np.zeros((2, 2)), np.zeros(2), np.zeros(2, np.int64))
+
+
+@njit(cache=True)
+def narrow_phase(pair_keys, x, reach, kind, radius, nverts, world_verts, world_normals, friction, restitution,
+                 margin, contacts):
+    """Manifolds of the candidate pairs (keys (a << BODY_BITS) | b), in pair order, and their points in
+    feature order, written into `contacts` (from `contact_buffers`, for at least as many pairs).
 
     A pair's points are kept within `margin` plus both bodies' travel in one tick (each body's reach is
-    the margin plus its travel). Returns the
-    manifold rows (body a, body b, first point, point count, normal/friction/restitution row), each
-    point's key (a, b, feature id packed into one int64), world position, and solver row (anchors
-    relative to both centres of mass, separation).
+    the margin plus its travel). A point's key is its pair's key and feature id packed into one int64;
+    its solver row holds the anchors relative to both centres of mass and the separation, with zero
+    impulses. Returns (manifold count, point count).
     """
-    n = x.shape[0]
-    n_pairs = pairs.shape[0]
-    m_a = np.empty(n_pairs, dtype=np.int64)
-    m_b = np.empty(n_pairs, dtype=np.int64)
-    m_first = np.empty(n_pairs, dtype=np.int64)
-    m_count = np.empty(n_pairs, dtype=np.int64)
-    manifold = np.empty((n_pairs, MANIFOLD_COLUMNS))
-    p_key = np.empty(2 * n_pairs, dtype=np.int64)
-    p_point = np.empty((2 * n_pairs, 2))
-    point = np.zeros((2 * n_pairs, POINT_COLUMNS))
-    normal = np.zeros(2)
-    points = np.zeros((2, 2))
-    separations = np.zeros(2)
-    ids = np.zeros(2, dtype=np.int64)
+    m_a, m_b, m_first, m_count, manifold, p_key, p_point, point, normal, points, separations, ids = contacts
     n_man = 0
     n_pts = 0
-    for k in range(n_pairs):
-        a = pairs[k, 0]
-        b = pairs[k, 1]
+    for k in range(pair_keys.shape[0]):
+        a = pair_keys[k] >> BODY_BITS
+        b = pair_keys[k] & BODY_MASK
         within = reach[a] + reach[b] - margin
         # dispatch written out here rather than in a function taking every array: a call passing a
         # dozen arrays per pair cost more than the collision test itself
@@ -274,7 +276,7 @@ def narrow_phase(pairs, x, reach, kind, radius, nverts, world_verts, world_norma
         n_man += 1
         for j in range(count):
             src = 1 - j if swap else j
-            p_key[n_pts] = ((a * n + b) << FEATURE_BITS) | ids[src]
+            p_key[n_pts] = (pair_keys[k] << FEATURE_BITS) | ids[src]
             p_point[n_pts, 0] = points[src, 0]
             p_point[n_pts, 1] = points[src, 1]
             point[n_pts, RAX] = points[src, 0] - x[a, 0]
@@ -282,6 +284,7 @@ def narrow_phase(pairs, x, reach, kind, radius, nverts, world_verts, world_norma
             point[n_pts, RBX] = points[src, 0] - x[b, 0]
             point[n_pts, RBY] = points[src, 1] - x[b, 1]
             point[n_pts, SEPARATION] = separations[src]
+            point[n_pts, NORMAL_IMPULSE] = 0.0
+            point[n_pts, TANGENT_IMPULSE] = 0.0
             n_pts += 1
-    return (m_a[:n_man], m_b[:n_man], m_first[:n_man], m_count[:n_man], manifold[:n_man],
-            p_key[:n_pts], p_point[:n_pts], point[:n_pts])
+    return n_man, n_pts

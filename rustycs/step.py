@@ -1,7 +1,8 @@
 """The tick: broad phase, narrow phase, soft contact solver with substeps, integration.
 
-One compiled function runs a block of ticks so that Python costs once per block. The previous tick's
-contact points (sorted by key: body a, body b, feature id) are both the warm-start cache and what
+One compiled function runs a block of ticks so that Python costs once per block, and its buffers are
+allocated once per block: a tick of a settled scene allocates nothing. The previous tick's contact
+points (sorted by key: body a, body b, feature id) are both the warm-start cache and what
 `World.contacts()` reports.
 """
 
@@ -10,9 +11,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from rustycs.broad_phase import find_pairs
+from rustycs.broad_phase import find_pairs, grid_scratch_size
 from rustycs.contact_solver import (
+    BODY_COLUMNS,
     CONTACT_HERTZ,
+    DAMPING_RATIO,
     NORMAL_IMPULSE,
     NX,
     NY,
@@ -21,12 +24,13 @@ from rustycs.contact_solver import (
     load_bodies,
     prepare,
     restitute,
+    softness,
     solve,
     store_bodies,
     warm_start,
 )
 from rustycs.hitbox import update_geometry
-from rustycs.manifold import LINEAR_SLOP, narrow_phase
+from rustycs.manifold import LINEAR_SLOP, contact_buffers, narrow_phase
 from rustycs.motion import apply_bounds, first_non_finite, integrate_positions, integrate_velocities
 
 SPECULATIVE_DISTANCE = 4.0 * LINEAR_SLOP
@@ -46,6 +50,7 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
 
     Returns (bad_body, ticks_done, escaped, contact cache arrays...): bad_body is -1, or the first
     body whose state became non-finite in tick `ticks_done` (then the block stops there).
+    Every buffer is allocated once per block and reused by its ticks.
     """
     n = x.shape[0]
     dt = settings[DT]
@@ -54,68 +59,116 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
     threshold = settings[RESTITUTION_THRESHOLD]
     bounds = settings[BOUNDS:BOUNDS + 4]
     contact_hertz = min(CONTACT_HERTZ, 0.25 / h)
+    soft = softness(contact_hertz, DAMPING_RATIO, h)
+    # contacts against an immovable body are stiffer: only one side gives way
+    stiff = softness(2.0 * contact_hertz, DAMPING_RATIO, h)
     world_verts = np.zeros((n, local_verts.shape[1], 2))
     world_normals = np.zeros((n, local_verts.shape[1], 2))
     hitbox = np.zeros((n, 4))
     reach = np.zeros(n)
+    grid = np.empty(grid_scratch_size(n), dtype=np.int64)
+    extents = np.empty(n)
+    cells = np.empty(4 * n + 16, dtype=np.int64)
+    pair_keys = np.empty(4 * n + 16, dtype=np.int64)
+    body = np.empty((n, BODY_COLUMNS))
+    contacts = contact_buffers(max(pair_keys.shape[0], c_key.shape[0]))
+    # last tick's keys and impulses, for warm starting
+    cache_key = np.empty(contacts[5].shape[0], dtype=np.int64)
+    cache_jn = np.empty(contacts[5].shape[0])
+    cache_jt = np.empty(contacts[5].shape[0])
+    n_cache = c_key.shape[0]
+    cache_key[:n_cache] = c_key
+    cache_jn[:n_cache] = c_jn
+    cache_jt[:n_cache] = c_jt
+    n_man = 0
+    n_pts = 0
+    stepped = False
     escaped = 0
-    for tick in range(n_ticks):
+    bad = -1
+    done = 0
+    for _ in range(n_ticks):
         bad = first_non_finite(x, angle, v, w, body_type, active)
         if bad >= 0:  # set from outside between blocks: report it before it spreads
-            return bad, tick, escaped, c_key, c_a, c_b, c_point, c_normal, c_sep, c_jn, c_jt
+            break
         update_geometry(x, angle, v, kind, radius, nverts, local_verts, local_normals, active,
                         SPECULATIVE_DISTANCE, dt, world_verts, world_normals, hitbox, reach)
-        pairs = find_pairs(hitbox, inv_mass, active, group)
-        m_a, m_b, m_first, m_count, manifold, p_key, p_point, point = narrow_phase(
-            pairs, x, reach, kind, radius, nverts, world_verts, world_normals, friction, restitution,
-            SPECULATIVE_DISTANCE)
-        n_man = m_a.shape[0]
-        n_pts = p_key.shape[0]
+        n_pairs, cells, pair_keys = find_pairs(hitbox, inv_mass, active, group, grid, extents, cells,
+                                               pair_keys)
+        if n_pairs > contacts[0].shape[0]:
+            contacts = contact_buffers(2 * n_pairs)
+        n_man, n_pts = narrow_phase(pair_keys[:n_pairs], x, reach, kind, radius, nverts, world_verts,
+                                    world_normals, friction, restitution, SPECULATIVE_DISTANCE, contacts)
+        m_a = contacts[0][:n_man]
+        m_b = contacts[1][:n_man]
+        m_first = contacts[2][:n_man]
+        m_count = contacts[3][:n_man]
+        manifold = contacts[4][:n_man]
+        p_key = contacts[5][:n_pts]
+        point = contacts[7][:n_pts]
 
         # warm start from last tick's impulses of the same (a, b, feature): both key lists are
         # sorted, so one merge pass finds them
         f = 0
         for p in range(n_pts):
-            while f < c_key.shape[0] and c_key[f] < p_key[p]:
+            while f < n_cache and cache_key[f] < p_key[p]:
                 f += 1
-            if f < c_key.shape[0] and c_key[f] == p_key[p]:
-                point[p, NORMAL_IMPULSE] = c_jn[f]
-                point[p, TANGENT_IMPULSE] = c_jt[f]
+            if f < n_cache and cache_key[f] == p_key[p]:
+                point[p, NORMAL_IMPULSE] = cache_jn[f]
+                point[p, TANGENT_IMPULSE] = cache_jt[f]
 
-        body = load_bodies(v, w, inv_mass, inv_inertia)
+        load_bodies(v, w, inv_mass, inv_inertia, body)
         prepare(m_a, m_b, manifold, m_first, m_count, point, body)
         for _ in range(substeps):
             integrate_velocities(body, x, body_type, active, gravity, att_pos, att_gm, att_range,
                                  att_min_distance, h)
             warm_start(m_a, m_b, manifold, m_first, m_count, point, body)
-            solve(m_a, m_b, manifold, m_first, m_count, point, body, h, contact_hertz, True)
+            solve(m_a, m_b, manifold, m_first, m_count, point, body, 1.0 / h, soft, stiff, True)
             integrate_positions(x, angle, body, body_type, active, h)
-            solve(m_a, m_b, manifold, m_first, m_count, point, body, h, contact_hertz, False)
+            solve(m_a, m_b, manifold, m_first, m_count, point, body, 1.0 / h, soft, stiff, False)
         # a single pass would favour the first point of a two-point manifold (a flat box would
         # bounce unevenly and spin); repeated passes converge to -e times the approach speed at both
         for _ in range(substeps):
             restitute(m_a, m_b, manifold, m_first, m_count, point, body, threshold)
         store_bodies(body, v, w, body_type)
 
-        # this tick's contacts become the cache
-        c_key = p_key
-        c_a = np.empty(n_pts, dtype=np.int64)
-        c_b = np.empty(n_pts, dtype=np.int64)
-        c_normal = np.empty((n_pts, 2))
-        for m in range(n_man):
-            for p in range(m_first[m], m_first[m] + m_count[m]):
-                c_a[p] = m_a[m]
-                c_b[p] = m_b[m]
-                c_normal[p, 0] = manifold[m, NX]
-                c_normal[p, 1] = manifold[m, NY]
-        c_point = p_point[:n_pts]
-        c_sep = point[:n_pts, SEPARATION].copy()
-        c_jn = point[:n_pts, NORMAL_IMPULSE].copy()
-        c_jt = point[:n_pts, TANGENT_IMPULSE].copy()
+        # this tick's impulses warm-start the next
+        if n_pts > cache_key.shape[0]:
+            cache_key = np.empty(2 * n_pts, dtype=np.int64)
+            cache_jn = np.empty(2 * n_pts)
+            cache_jt = np.empty(2 * n_pts)
+        n_cache = n_pts
+        cache_key[:n_pts] = p_key
+        cache_jn[:n_pts] = point[:, NORMAL_IMPULSE]
+        cache_jt[:n_pts] = point[:, TANGENT_IMPULSE]
 
+        stepped = True
         bad = first_non_finite(x, angle, v, w, body_type, active)
         if bad >= 0:
-            return bad, tick, escaped, c_key, c_a, c_b, c_point, c_normal, c_sep, c_jn, c_jt
+            break
         if settings[HAS_BOUNDS] != 0.0:
             escaped += apply_bounds(x, v, w, body_type, active, bounds)
-    return -1, n_ticks, escaped, c_key, c_a, c_b, c_point, c_normal, c_sep, c_jn, c_jt
+        done += 1
+    if stepped:
+        cache = contact_cache(contacts, n_man, n_pts)
+    else:
+        cache = (c_key, c_a, c_b, c_point, c_normal, c_sep, c_jn, c_jt)
+    return (bad, done, escaped) + cache
+
+
+@njit(cache=True)
+def contact_cache(contacts, n_man, n_pts):
+    """This tick's contact points, one row each: key, bodies, position, normal, separation and
+    impulses (the warm-start cache between blocks, and what `World.contacts()` reports)."""
+    m_a, m_b, m_first, m_count, manifold, p_key, p_point, point = contacts[:8]
+    c_a = np.empty(n_pts, dtype=np.int64)
+    c_b = np.empty(n_pts, dtype=np.int64)
+    c_normal = np.empty((n_pts, 2))
+    for m in range(n_man):
+        for p in range(m_first[m], m_first[m] + m_count[m]):
+            c_a[p] = m_a[m]
+            c_b[p] = m_b[m]
+            c_normal[p, 0] = manifold[m, NX]
+            c_normal[p, 1] = manifold[m, NY]
+    return (p_key[:n_pts].copy(), c_a, c_b, p_point[:n_pts].copy(), c_normal,
+            point[:n_pts, SEPARATION].copy(), point[:n_pts, NORMAL_IMPULSE].copy(),
+            point[:n_pts, TANGENT_IMPULSE].copy())

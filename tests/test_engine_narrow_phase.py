@@ -12,8 +12,9 @@ import math
 import numpy as np
 import pytest
 
+from rustycs.broad_phase import BODY_BITS
 from rustycs.contact_solver import NX, NY, SEPARATION
-from rustycs.manifold import FEATURE_BITS, collide_circles, narrow_phase
+from rustycs.manifold import FEATURE_BITS, collide_circles, contact_buffers, narrow_phase
 from rustycs.shapes import MAX_VERTICES, Box, Circle, Polygon, mass_properties
 
 MARGIN = 0.02
@@ -44,11 +45,13 @@ def collide_pair(a, b, margin=MARGIN):
             out = np.stack([edges[:, 1], -edges[:, 0]], axis=1)
             verts[i, :k] = world
             normals[i, :k] = out / np.linalg.norm(out, axis=1)[:, None]
-    pairs = np.array([[0, 1]], np.int64)
-    _, _, _, _, manifold, keys, points, rows = narrow_phase(
-        pairs, x, np.full(n, margin), kind, radius, nverts, verts, normals, np.zeros(n), np.zeros(n),
-        margin)
-    if len(manifold) == 0:
+    pair_keys = np.array([(0 << BODY_BITS) | 1], np.int64)
+    contacts = contact_buffers(1)
+    n_man, n_pts = narrow_phase(pair_keys, x, np.full(n, margin), kind, radius, nverts, verts, normals,
+                                np.zeros(n), np.zeros(n), margin, contacts)
+    _, _, _, _, manifold, keys, points, rows = (buffer[:n_pts] if i >= 5 else buffer[:n_man]
+                                                for i, buffer in enumerate(contacts[:8]))
+    if n_man == 0:
         return np.zeros(2), np.zeros((0, 2)), np.zeros(0), np.zeros(0, np.int64)
     return (manifold[0, NX:NY + 1].copy(), points.copy(), -rows[:, SEPARATION],
             keys & ((1 << FEATURE_BITS) - 1))
