@@ -32,7 +32,8 @@ BODY_COLUMNS = 10
 RAX, RAY, RBX, RBY, SEPARATION, ADJUSTED_SEPARATION, NORMAL_MASS, TANGENT_MASS = 0, 1, 2, 3, 4, 5, 6, 7
 NORMAL_IMPULSE, TANGENT_IMPULSE, MAX_NORMAL_IMPULSE, RELATIVE_VELOCITY = 8, 9, 10, 11
 RNA, RNB, RTA, RTB = 12, 13, 14, 15  # anchors crossed with the normal and the tangent
-POINT_COLUMNS = 16
+RDA, RDB = 16, 17  # anchors dotted with the normal
+POINT_COLUMNS = 18
 # columns of a manifold row
 NX, NY, FRICTION, RESTITUTION = 0, 1, 2, 3
 MANIFOLD_COLUMNS = 4
@@ -103,7 +104,9 @@ def prepare(m_a, m_b, manifold, m_first, m_count, point, body):
             rtb = pt[RTB] = pt[RBX] * ty - pt[RBY] * tx
             k = ma + mb + ia * rta * rta + ib * rtb * rtb
             pt[TANGENT_MASS] = 1.0 / k if k > 0.0 else 0.0
-            pt[ADJUSTED_SEPARATION] = pt[SEPARATION] - ((pt[RBX] - pt[RAX]) * nx + (pt[RBY] - pt[RAY]) * ny)
+            rda = pt[RDA] = pt[RAX] * nx + pt[RAY] * ny
+            rdb = pt[RDB] = pt[RBX] * nx + pt[RBY] * ny
+            pt[ADJUSTED_SEPARATION] = pt[SEPARATION] - (rdb - rda)
             dvx, dvy = _relative_velocity(body, a, b, pt)
             pt[RELATIVE_VELOCITY] = dvx * nx + dvy * ny
             pt[MAX_NORMAL_IMPULSE] = 0.0
@@ -150,16 +153,16 @@ def solve(m_a, m_b, manifold, m_first, m_count, point, body, inv_h, soft, stiff,
         nx, ny = manifold[m, NX], manifold[m, NY]
         rate, mscale, iscale = stiff if ma == 0.0 or mb == 0.0 else soft
         ca, sa, cb, sb = body[a, COS], body[a, SIN], body[b, COS], body[b, SIN]
-        ddx = body[b, DX] - body[a, DX]
-        ddy = body[b, DY] - body[a, DY]
+        # the centres' approach along the normal since the narrow phase
+        dn = (body[b, DX] - body[a, DX]) * nx + (body[b, DY] - body[a, DY]) * ny
         first = m_first[m]
         last = first + m_count[m]
         for p in range(first, last):
-            rax, ray, rbx, rby = point[p, RAX], point[p, RAY], point[p, RBX], point[p, RBY]
-            # current separation from the bodies' motion since the narrow phase
-            dx = ddx + (cb * rbx - sb * rby) - (ca * rax - sa * ray)
-            dy = ddy + (sb * rbx + cb * rby) - (sa * rax + ca * ray)
-            s = dx * nx + dy * ny + point[p, ADJUSTED_SEPARATION]
+            rna, rnb = point[p, RNA], point[p, RNB]
+            # current separation: the anchors turned by each body's rotation since the narrow phase,
+            # projected on the normal through their precomputed dot and cross products
+            s = (dn + (cb * point[p, RDB] + sb * rnb) - (ca * point[p, RDA] + sa * rna)
+                 + point[p, ADJUSTED_SEPARATION])
             bias = 0.0
             mass_scale = 1.0
             impulse_scale = 0.0
@@ -170,7 +173,6 @@ def solve(m_a, m_b, manifold, m_first, m_count, point, body, inv_h, soft, stiff,
                 mass_scale = mscale
                 impulse_scale = iscale
             # the velocity chain from one point to the next is kept short: cross products precomputed
-            rna, rnb = point[p, RNA], point[p, RNB]
             vn = (vbx - vax) * nx + (vby - vay) * ny + (wb * rnb - wa * rna)
             old = point[p, NORMAL_IMPULSE]
             total = max(old - point[p, NORMAL_MASS] * mass_scale * (vn + bias) - impulse_scale * old, 0.0)
