@@ -15,8 +15,10 @@ import math
 import numpy as np
 from numba import njit
 
+from rustycs.tick_kernel import tick_kernel
 
-@njit(cache=True)
+
+@njit(cache=True, inline="always")
 def _overlap(hitbox, i, j):
     return (hitbox[i, 0] <= hitbox[j, 2] and hitbox[j, 0] <= hitbox[i, 2]
             and hitbox[i, 1] <= hitbox[j, 3] and hitbox[j, 1] <= hitbox[i, 3])
@@ -38,7 +40,7 @@ def grid_scratch_size(n):
     return 13 * n + 33
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _select(values, k):
     """The k-th smallest of `values` (reordered in place): a deterministic quickselect."""
     lo = 0
@@ -65,13 +67,14 @@ def _select(values, k):
     return values[k]
 
 
-@njit(cache=True)
+@tick_kernel
 def find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, keys):
-    """Candidate pairs as sorted keys (a << BODY_BITS) | b, a < b, each with a dynamic body.
+    """Candidate pairs as sorted keys (a << BODY_BITS) | b in keys[:count], a < b, each with a
+    dynamic body.
 
-    `grid` (grid_scratch_size(n) integers) and `extents` (n floats) are scratch; `cells` and `keys`
-    are scratch that grows as needed. Returns (count, cells, keys) with the pairs in keys[:count].
-    Nothing is allocated in a tick whose buffers are large enough.
+    `grid` (grid_scratch_size(n) integers), `extents` (n floats) and `cells` are scratch. Returns
+    (pair count, cell entries): when either exceeds its buffer (`keys`, `cells`), the pairs were not
+    all written, and the caller grows the buffers and calls again.
     """
     n = hitbox.shape[0]
     dynamic = grid[:n]
@@ -81,7 +84,7 @@ def find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, keys):
             dynamic[nd] = i
             nd += 1
     if nd == 0:
-        return 0, cells, keys
+        return 0, 0
     lo_x = np.inf
     lo_y = np.inf
     hi_x = -np.inf
@@ -96,7 +99,7 @@ def find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, keys):
     width = hi_x - lo_x
     height = hi_y - lo_y
     if not (math.isfinite(width) and math.isfinite(height)):
-        return 0, cells, keys  # a non-finite state: the step reports it
+        return 0, 0  # a non-finite state: the step reports it
     # the cell size only decides speed, never which pairs are found
     cell = max(_select(extents[:nd], nd // 2), 1e-9)
     max_cells = 4.0 * nd + 16.0
@@ -111,7 +114,8 @@ def find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, keys):
     ranges = grid[n:5 * n]
     counts = grid[5 * n:5 * n + n_cells + 1]
     fill = grid[9 * n + 17:9 * n + 17 + n_cells]
-    counts[:] = 0
+    for c in range(n_cells + 1):
+        counts[c] = 0
     for i in range(n):
         ranges[4 * i] = -1
         if not active[i]:
@@ -132,9 +136,11 @@ def find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, keys):
                 counts[cy * nx + cx + 1] += 1
     for c in range(n_cells):
         counts[c + 1] += counts[c]
-    if counts[n_cells] > cells.shape[0]:
-        cells = np.empty(2 * counts[n_cells], dtype=np.int64)
-    fill[:] = counts[:n_cells]
+    entries = counts[n_cells]
+    if entries > cells.shape[0]:
+        return 0, entries
+    for c in range(n_cells):
+        fill[c] = counts[c]
     for i in range(n):
         if ranges[4 * i] < 0:
             continue
@@ -144,30 +150,34 @@ def find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, keys):
                 cells[fill[c]] = i
                 fill[c] += 1
 
+    # each body's partners of higher index, inserted in order: the keys come out sorted by (a, b)
+    # with no sort of the whole list
     count = 0
-    for c in range(n_cells):
-        start = counts[c]
-        end = counts[c + 1]
-        cx = c % nx
-        cy = c // nx
-        for p in range(start, end):
-            i = cells[p]
-            for q in range(p + 1, end):
-                j = cells[q]
-                if inv_mass[i] == 0.0 and inv_mass[j] == 0.0:
-                    continue
-                if group[i] != 0 and group[i] == group[j]:
-                    continue
-                if not _overlap(hitbox, i, j):
-                    continue
-                # report the pair only in the cell of the intersection's lower corner
-                if max(ranges[4 * i], ranges[4 * j]) != cx or max(ranges[4 * i + 1], ranges[4 * j + 1]) != cy:
-                    continue
-                if count == keys.shape[0]:
-                    grown = np.empty(2 * count + 16, dtype=np.int64)
-                    grown[:count] = keys
-                    keys = grown
-                keys[count] = (min(i, j) << BODY_BITS) | max(i, j)
-                count += 1
-    keys[:count].sort()
-    return count, cells, keys
+    for i in range(n):
+        if ranges[4 * i] < 0:
+            continue
+        first = count
+        for cy in range(ranges[4 * i + 1], ranges[4 * i + 3] + 1):
+            for cx in range(ranges[4 * i], ranges[4 * i + 2] + 1):
+                c = cy * nx + cx
+                for p in range(counts[c], counts[c + 1]):
+                    j = cells[p]
+                    if j <= i or (inv_mass[i] == 0.0 and inv_mass[j] == 0.0):
+                        continue
+                    if group[i] != 0 and group[i] == group[j]:
+                        continue
+                    # a pair is reported once: in the cell of its intersection's lower corner
+                    if (max(ranges[4 * i], ranges[4 * j]) != cx
+                            or max(ranges[4 * i + 1], ranges[4 * j + 1]) != cy):
+                        continue
+                    if not _overlap(hitbox, i, j):
+                        continue
+                    if count < keys.shape[0]:
+                        key = (i << BODY_BITS) | j
+                        k = count
+                        while k > first and keys[k - 1] > key:
+                            keys[k] = keys[k - 1]
+                            k -= 1
+                        keys[k] = key
+                    count += 1
+    return count, entries

@@ -20,6 +20,7 @@ import math
 from numba import njit
 
 from rustycs.body_types import DYNAMIC
+from rustycs.tick_kernel import tick_kernel
 
 CONTACT_HERTZ = 60.0
 DAMPING_RATIO = 10.0
@@ -49,7 +50,7 @@ def softness(hertz, zeta, h):
     return omega / a1, a2 * a3, a3
 
 
-@njit(cache=True)
+@tick_kernel
 def load_bodies(v, w, inv_mass, inv_inertia, body):
     """Fill the solver rows of the bodies: velocities, inverse masses, no displacement yet since the
     narrow phase."""
@@ -66,7 +67,7 @@ def load_bodies(v, w, inv_mass, inv_inertia, body):
         body[i, SIN] = 0.0
 
 
-@njit(cache=True)
+@tick_kernel
 def store_bodies(body, v, w, body_type):
     """Copy velocities back to the dynamic bodies (the others' velocities are theirs to keep)."""
     for i in range(v.shape[0]):
@@ -77,7 +78,7 @@ def store_bodies(body, v, w, body_type):
         w[i] = body[i, W]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _relative_velocity(body, a, b, pt):
     """Velocity of b's contact point relative to a's (anchors fixed at the narrow phase)."""
     dvx = (body[b, VX] - body[b, W] * pt[RBY]) - (body[a, VX] - body[a, W] * pt[RAY])
@@ -85,7 +86,7 @@ def _relative_velocity(body, a, b, pt):
     return dvx, dvy
 
 
-@njit(cache=True)
+@tick_kernel
 def prepare(m_a, m_b, manifold, m_first, m_count, point, body):
     for m in range(m_a.shape[0]):
         a = m_a[m]
@@ -112,7 +113,7 @@ def prepare(m_a, m_b, manifold, m_first, m_count, point, body):
             pt[MAX_NORMAL_IMPULSE] = 0.0
 
 
-@njit(cache=True)
+@tick_kernel
 def warm_start(m_a, m_b, manifold, m_first, m_count, point, body):
     for m in range(m_a.shape[0]):
         a = m_a[m]
@@ -132,11 +133,15 @@ def warm_start(m_a, m_b, manifold, m_first, m_count, point, body):
             vbx += mb * px
             vby += mb * py
             wb += ib * (point[p, RBX] * py - point[p, RBY] * px)
-        body[a, VX], body[a, VY], body[a, W] = vax, vay, wa
-        body[b, VX], body[b, VY], body[b, W] = vbx, vby, wb
+        # an immovable body's velocity is left unwritten, so that the next contact with it (the ground
+        # under a row of boxes) does not wait for this one
+        if ma != 0.0 or ia != 0.0:
+            body[a, VX], body[a, VY], body[a, W] = vax, vay, wa
+        if mb != 0.0 or ib != 0.0:
+            body[b, VX], body[b, VY], body[b, W] = vbx, vby, wb
 
 
-@njit(cache=True)
+@tick_kernel
 def solve(m_a, m_b, manifold, m_first, m_count, point, body, inv_h, soft, stiff, use_bias):
     """One pass over all contacts; with `use_bias` the soft position bias pushes overlap apart.
 
@@ -201,11 +206,15 @@ def solve(m_a, m_b, manifold, m_first, m_count, point, body, inv_h, soft, stiff,
             vbx += mb * tx * impulse
             vby += mb * ty * impulse
             wb += ib * rtb * impulse
-        body[a, VX], body[a, VY], body[a, W] = vax, vay, wa
-        body[b, VX], body[b, VY], body[b, W] = vbx, vby, wb
+        # an immovable body's velocity is left unwritten, so that the next contact with it (the ground
+        # under a row of boxes) does not wait for this one
+        if ma != 0.0 or ia != 0.0:
+            body[a, VX], body[a, VY], body[a, W] = vax, vay, wa
+        if mb != 0.0 or ib != 0.0:
+            body[b, VX], body[b, VY], body[b, W] = vbx, vby, wb
 
 
-@njit(cache=True)
+@tick_kernel
 def restitute(m_a, m_b, manifold, m_first, m_count, point, body, threshold):
     """Bounce: set the normal speed to -e times the approach speed measured before solving."""
     for m in range(m_a.shape[0]):

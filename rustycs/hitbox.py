@@ -5,12 +5,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from rustycs.shapes import CIRCLE
+from rustycs.tick_kernel import tick_kernel
 
 
-@njit(cache=True)
+@tick_kernel
 def update_geometry(x, angle, v, kind, radius, nverts, local_verts, local_normals, active,
                     margin, dt, world_verts, world_normals, hitbox, reach):
     """Rotate each polygon from its rest shape (never incrementally, so shapes keep their size)

@@ -35,13 +35,14 @@ from rustycs.contact_solver import (
     TANGENT_IMPULSE,
 )
 from rustycs.shapes import CIRCLE
+from rustycs.tick_kernel import tick_kernel
 
 LINEAR_SLOP = 0.005
 FEATURE_BITS = 8  # a point's key: (pair key << FEATURE_BITS) | feature id
 REFERENCE_TOLERANCE = 0.1 * LINEAR_SLOP
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def collide_circles(xa, ya, ra, xb, yb, rb, margin, normal, points, separations, ids):
     dx = xb - xa
     dy = yb - ya
@@ -65,7 +66,7 @@ def collide_circles(xa, ya, ra, xb, yb, rb, margin, normal, points, separations,
     return 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def collide_polygon_circle(verts, normals, counts, i, cx, cy, r, margin, normal, points, separations, ids):
     """Polygon i against a circle; the normal points from the polygon to the circle."""
     count = counts[i]
@@ -111,7 +112,7 @@ def collide_polygon_circle(verts, normals, counts, i, cx, cy, r, margin, normal,
     return 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _max_separation(verts, normals, counts, a, b):
     """Edge of polygon a with the greatest separation of polygon b's vertices from it.
 
@@ -146,7 +147,7 @@ def _clip(px, py, qx, qy, dp, dq, lo, hi):
     return px + f * (qx - px), py + f * (qy - py)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def collide_polygons(verts, normals, counts, a, b, margin, normal, points, separations, ids):
     """Polygons a and b; the normal points from a to b."""
     edge_a, sep_a = _max_separation(verts, normals, counts, a, b)
@@ -228,7 +229,7 @@ def contact_buffers(capacity):
             np.zeros(2), np.zeros((2, 2)), np.zeros(2), np.zeros(2, np.int64))
 
 
-@njit(cache=True)
+@tick_kernel
 def narrow_phase(pair_keys, x, reach, kind, radius, nverts, world_verts, world_normals, friction, restitution,
                  margin, contacts):
     """Manifolds of the candidate pairs (keys (a << BODY_BITS) | b), in pair order, and their points in

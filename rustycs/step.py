@@ -92,8 +92,11 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
             break
         update_geometry(x, angle, v, kind, radius, nverts, local_verts, local_normals, active,
                         SPECULATIVE_DISTANCE, dt, world_verts, world_normals, hitbox, reach)
-        n_pairs, cells, pair_keys = find_pairs(hitbox, inv_mass, active, group, grid, extents, cells,
-                                               pair_keys)
+        n_pairs, n_entries = find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, pair_keys)
+        while n_entries > cells.shape[0] or n_pairs > pair_keys.shape[0]:  # rare: the buffers grow
+            cells = np.empty(max(2 * n_entries, cells.shape[0]), dtype=np.int64)
+            pair_keys = np.empty(max(2 * n_pairs, pair_keys.shape[0]), dtype=np.int64)
+            n_pairs, n_entries = find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, pair_keys)
         if n_pairs > contacts[0].shape[0]:
             contacts = contact_buffers(2 * n_pairs)
         n_man, n_pts = narrow_phase(pair_keys[:n_pairs], x, reach, kind, radius, nverts, world_verts,
