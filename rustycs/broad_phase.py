@@ -160,17 +160,20 @@ def find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, keys):
         for cy in range(ranges[4 * i + 1], ranges[4 * i + 3] + 1):
             for cx in range(ranges[4 * i], ranges[4 * i + 2] + 1):
                 c = cy * nx + cx
-                for p in range(counts[c], counts[c + 1]):
+                # a cell lists its bodies in index order: walk down from the top to the first j <= i
+                for p in range(counts[c + 1] - 1, counts[c] - 1, -1):
                     j = cells[p]
-                    if j <= i or (inv_mass[i] == 0.0 and inv_mass[j] == 0.0):
-                        continue
-                    if group[i] != 0 and group[i] == group[j]:
-                        continue
+                    if j <= i:
+                        break
                     # a pair is reported once: in the cell of its intersection's lower corner
                     if (max(ranges[4 * i], ranges[4 * j]) != cx
                             or max(ranges[4 * i + 1], ranges[4 * j + 1]) != cy):
                         continue
                     if not _overlap(hitbox, i, j):
+                        continue
+                    if inv_mass[i] == 0.0 and inv_mass[j] == 0.0:
+                        continue
+                    if group[i] != 0 and group[i] == group[j]:
                         continue
                     if count < keys.shape[0]:
                         key = (i << BODY_BITS) | j
