@@ -129,7 +129,7 @@ CONTACT_FIELDS = {  # name: (row shape, dtype, unit); [C, *shape]
     "normal_impulse": ((), "f8", "N s"),
 }
 BLOCK_FRAMES = 64  # frames held in memory before they are appended to the file
-CHUNK_FRAMES = 32  # frames per chunk, fewer when one frame of a dataset is large
+CHUNK_FRAMES = BLOCK_FRAMES  # frames per chunk (a block fills whole chunks), fewer when a frame is large
 CHUNK_BYTES = 1 << 20  # so that a chunk fits h5py's default chunk cache
 CONTACT_CHUNK_ROWS = 4096
 
@@ -149,16 +149,24 @@ class Frame:
 
     @classmethod
     def capture(cls, world: Any, contacts: bool) -> Frame:
-        """Copy the world's current state (and its last tick's contacts when `contacts`)."""
+        """The world's current state (and its last tick's contacts when `contacts`)."""
+        frames = world.frame_buffer(1)
+        world.capture(frames)
+        return cls.from_buffer(frames, 0, world.contacts() if contacts else None)
+
+    @classmethod
+    def from_buffer(cls, frames: dict[str, np.ndarray], row: int,
+                    contacts: dict[str, np.ndarray] | None) -> Frame:
+        """A copy of row `row` of a frame buffer filled by `World.step(record=...)` or `World.capture`."""
         return cls(
-            tick=int(world.tick),
-            position=world.positions,
-            velocity=world.velocities,
-            angle=world.angles,
-            angular_velocity=world.angular_velocities,
-            active=world.active,
-            observables=world.observables(),
-            contacts=world.contacts() if contacts else None,
+            tick=int(frames["tick"][row]),
+            position=frames["position"][row].copy(),
+            velocity=frames["velocity"][row].copy(),
+            angle=frames["angle"][row].copy(),
+            angular_velocity=frames["angular_velocity"][row].copy(),
+            active=frames["active"][row].copy(),
+            observables={name: frames[name][row] for name in (*OBSERVABLES, "max_speed")},
+            contacts=contacts,
         )
 
 
@@ -224,11 +232,14 @@ class _Growing:
         self.buffer = bigger
 
     def flush(self) -> None:
+        import numpy as np
+
         if not self.used:
             return
         start = self.dataset.shape[0]
         self.dataset.resize(start + self.used, axis=0)
-        self.dataset[start:] = self.buffer[:self.used]
+        # write_direct: the buffer goes to HDF5 as it is, without h5py's slicing machinery
+        self.dataset.write_direct(self.buffer, source_sel=np.s_[:self.used], dest_sel=np.s_[start:])
         self.used = 0
 
 
@@ -361,9 +372,10 @@ class TrajectoryWriter:
             self._flush()
 
     def _flush(self) -> None:
+        # no HDF5 flush per block: the file is a temporary until `finish` closes and renames it, so a
+        # flush would cost a millisecond per block and protect nothing
         for series in self._all_series():
             series.flush()
-        self._file.flush()
 
     def _all_series(self) -> list[_Growing]:
         found = [self._step, self._time, *self._series.values(), *self._observables.values()]

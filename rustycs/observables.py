@@ -67,13 +67,22 @@ def contact_statistics(separation, normal_impulse):
     return count, deepest
 
 
+@njit(cache=True, inline="always")
+def body_origin(x, angle, origin_offset, i):
+    """Body i's origin: its centre of mass plus the rotated offset to the origin."""
+    ox = origin_offset[i, 0]
+    oy = origin_offset[i, 1]
+    if ox == 0.0 and oy == 0.0:  # circles, boxes: no turning needed
+        return x[i, 0], x[i, 1]
+    c = math.cos(angle[i])
+    s = math.sin(angle[i])
+    return x[i, 0] + c * ox - s * oy, x[i, 1] + s * ox + c * oy
+
+
 @njit(cache=True)
 def body_origins(x, angle, origin_offset):
-    """Body origins: each centre of mass plus its rotated offset to the origin."""
+    """Every body's origin."""
     out = np.empty_like(x)
     for i in range(x.shape[0]):
-        c = math.cos(angle[i])
-        s = math.sin(angle[i])
-        out[i, 0] = x[i, 0] + c * origin_offset[i, 0] - s * origin_offset[i, 1]
-        out[i, 1] = x[i, 1] + s * origin_offset[i, 0] + c * origin_offset[i, 1]
+        out[i, 0], out[i, 1] = body_origin(x, angle, origin_offset, i)
     return out

@@ -1,9 +1,10 @@
 """The tick: broad phase, narrow phase, soft contact solver with substeps, integration.
 
-One compiled function runs a block of ticks so that Python costs once per block, and its buffers are
-allocated once per block: a tick of a settled scene allocates nothing. The previous tick's contact
-points (sorted by key: body a, body b, feature id) are both the warm-start cache and what
-`World.contacts()` reports.
+One compiled function runs a block of ticks so that Python costs once per block. Its buffers (the
+workspace) belong to the world and live from block to block, growing when a tick needs more: a tick
+of a settled scene allocates nothing, even when a recorder steps one tick at a time. The previous
+tick's contact points (sorted by key: body a, body b, feature id) are both the warm-start cache and
+what `World.contacts()` reports.
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from rustycs.contact_solver import (
 from rustycs.hitbox import update_geometry
 from rustycs.manifold import LINEAR_SLOP, contact_buffers, narrow_phase
 from rustycs.motion import apply_bounds, first_non_finite, integrate_positions, integrate_velocities
+from rustycs.recording import record_frame
 
 SPECULATIVE_DISTANCE = 4.0 * LINEAR_SLOP
 
@@ -39,20 +41,47 @@ SPECULATIVE_DISTANCE = 4.0 * LINEAR_SLOP
 DT, SUBSTEPS, RESTITUTION_THRESHOLD, HAS_BOUNDS, BOUNDS = 0, 1, 2, 3, 4
 SETTINGS_SIZE = 8
 
+# layout of the workspace tuple
+WORLD_VERTS, WORLD_NORMALS, HITBOX, REACH, GRID, EXTENTS, CELLS, PAIR_KEYS, BODY, CONTACTS = range(10)
+CACHE_KEY, CACHE_JN, CACHE_JT, SIZES = 10, 11, 12, 13
+POINT_ROWS = 7  # the solver rows of the points, in the CONTACTS tuple
+# entries of the SIZES array: last tick's manifolds and points, and warm-start cache entries
+N_MANIFOLDS, N_POINTS, N_CACHE = 0, 1, 2
+
+
+@njit(cache=True)
+def new_workspace(n, max_vertices, c_key, c_jn, c_jt):
+    """Buffers for stepping n bodies, with the warm-start cache (keys and impulses) carried over."""
+    capacity = max(4 * n + 16, c_key.shape[0])
+    cache_key = np.empty(2 * capacity, dtype=np.int64)
+    cache_jn = np.empty(2 * capacity)
+    cache_jt = np.empty(2 * capacity)
+    k = c_key.shape[0]
+    cache_key[:k] = c_key
+    cache_jn[:k] = c_jn
+    cache_jt[:k] = c_jt
+    sizes = np.zeros(3, dtype=np.int64)
+    sizes[N_CACHE] = k
+    return (np.zeros((n, max_vertices, 2)), np.zeros((n, max_vertices, 2)), np.zeros((n, 4)), np.zeros(n),
+            np.empty(grid_scratch_size(n), dtype=np.int64), np.empty(n), np.empty(capacity, dtype=np.int64),
+            np.empty(capacity, dtype=np.int64), np.empty((n, BODY_COLUMNS)), contact_buffers(capacity),
+            cache_key, cache_jn, cache_jt, sizes)
+
 
 @njit(cache=True, nogil=True)
 def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, radius, nverts,
                local_verts, local_normals, restitution, friction, active, group,
-               gravity, att_pos, att_gm, att_range, att_min_distance, settings,
-               c_key, c_a, c_b, c_point, c_normal, c_sep, c_jn, c_jt):
+               gravity, att_pos, att_gm, att_range, att_min_distance, settings, workspace,
+               mass, inertia, origin_offset, first_tick, every, frames):
     """Advance `n_ticks` ticks in place. Releases the GIL, so independent worlds step in parallel
     threads.
 
-    Returns (bad_body, ticks_done, escaped, contact cache arrays...): bad_body is -1, or the first
-    body whose state became non-finite in tick `ticks_done` (then the block stops there).
-    Every buffer is allocated once per block and reused by its ticks.
+    With `every` > 0, a frame (`recording.record_frame`) is written into `frames` after every
+    `every`-th tick of the block and after its last; ticks are numbered from `first_tick`.
+    Returns (bad_body, ticks_done, escaped, frames_recorded, workspace): bad_body is -1, or the first
+    body whose state became non-finite in tick `ticks_done` (then the block stops there, its frames so
+    far recorded). The workspace is the one given, with any buffer that had to grow replaced.
     """
-    n = x.shape[0]
     dt = settings[DT]
     substeps = int(settings[SUBSTEPS])
     h = dt / substeps
@@ -62,30 +91,13 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
     soft = softness(contact_hertz, DAMPING_RATIO, h)
     # contacts against an immovable body are stiffer: only one side gives way
     stiff = softness(2.0 * contact_hertz, DAMPING_RATIO, h)
-    world_verts = np.zeros((n, local_verts.shape[1], 2))
-    world_normals = np.zeros((n, local_verts.shape[1], 2))
-    hitbox = np.zeros((n, 4))
-    reach = np.zeros(n)
-    grid = np.empty(grid_scratch_size(n), dtype=np.int64)
-    extents = np.empty(n)
-    cells = np.empty(4 * n + 16, dtype=np.int64)
-    pair_keys = np.empty(4 * n + 16, dtype=np.int64)
-    body = np.empty((n, BODY_COLUMNS))
-    contacts = contact_buffers(max(pair_keys.shape[0], c_key.shape[0]))
-    # last tick's keys and impulses, for warm starting
-    cache_key = np.empty(contacts[5].shape[0], dtype=np.int64)
-    cache_jn = np.empty(contacts[5].shape[0])
-    cache_jt = np.empty(contacts[5].shape[0])
-    n_cache = c_key.shape[0]
-    cache_key[:n_cache] = c_key
-    cache_jn[:n_cache] = c_jn
-    cache_jt[:n_cache] = c_jt
-    n_man = 0
-    n_pts = 0
-    stepped = False
+    (world_verts, world_normals, hitbox, reach, grid, extents, cells, pair_keys, body, contacts,
+     cache_key, cache_jn, cache_jt, sizes) = workspace
+    n_cache = sizes[N_CACHE]
     escaped = 0
     bad = -1
     done = 0
+    recorded = 0
     for _ in range(n_ticks):
         bad = first_non_finite(x, angle, v, w, body_type, active)
         if bad >= 0:  # set from outside between blocks: report it before it spreads
@@ -101,13 +113,15 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
             contacts = contact_buffers(2 * n_pairs)
         n_man, n_pts = narrow_phase(pair_keys[:n_pairs], x, reach, kind, radius, nverts, world_verts,
                                     world_normals, friction, restitution, SPECULATIVE_DISTANCE, contacts)
+        sizes[N_MANIFOLDS] = n_man
+        sizes[N_POINTS] = n_pts
         m_a = contacts[0][:n_man]
         m_b = contacts[1][:n_man]
         m_first = contacts[2][:n_man]
         m_count = contacts[3][:n_man]
         manifold = contacts[4][:n_man]
         p_key = contacts[5][:n_pts]
-        point = contacts[7][:n_pts]
+        point = contacts[POINT_ROWS][:n_pts]
 
         # warm start from last tick's impulses of the same (a, b, feature): both key lists are
         # sorted, so one merge pass finds them
@@ -140,29 +154,35 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
             cache_jn = np.empty(2 * n_pts)
             cache_jt = np.empty(2 * n_pts)
         n_cache = n_pts
-        cache_key[:n_pts] = p_key
-        cache_jn[:n_pts] = point[:, NORMAL_IMPULSE]
-        cache_jt[:n_pts] = point[:, TANGENT_IMPULSE]
+        sizes[N_CACHE] = n_pts
+        for p in range(n_pts):
+            cache_key[p] = p_key[p]
+            cache_jn[p] = point[p, NORMAL_IMPULSE]
+            cache_jt[p] = point[p, TANGENT_IMPULSE]
 
-        stepped = True
         bad = first_non_finite(x, angle, v, w, body_type, active)
         if bad >= 0:
             break
         if settings[HAS_BOUNDS] != 0.0:
             escaped += apply_bounds(x, v, w, body_type, active, bounds)
         done += 1
-    if stepped:
-        cache = contact_cache(contacts, n_man, n_pts)
-    else:
-        cache = (c_key, c_a, c_b, c_point, c_normal, c_sep, c_jn, c_jt)
-    return (bad, done, escaped) + cache
+        if every > 0 and (done % every == 0 or done == n_ticks):
+            record_frame(frames, recorded, first_tick + done, x, angle, v, w, active, body_type, mass,
+                         inertia, inv_inertia, origin_offset, gravity, att_pos, att_gm, att_range,
+                         att_min_distance, point[:, SEPARATION], point[:, NORMAL_IMPULSE])
+            recorded += 1
+    workspace = (world_verts, world_normals, hitbox, reach, grid, extents, cells, pair_keys, body, contacts,
+                 cache_key, cache_jn, cache_jt, sizes)
+    return bad, done, escaped, recorded, workspace
 
 
 @njit(cache=True)
-def contact_cache(contacts, n_man, n_pts):
-    """This tick's contact points, one row each: key, bodies, position, normal, separation and
-    impulses (the warm-start cache between blocks, and what `World.contacts()` reports)."""
-    m_a, m_b, m_first, m_count, manifold, p_key, p_point, point = contacts[:8]
+def last_contacts(workspace):
+    """The last tick's contact points, one row each: key, bodies, position, normal, separation and
+    impulses (what `World.contacts()` reports, and the warm-start cache of a rebuilt workspace)."""
+    m_a, m_b, m_first, m_count, manifold, p_key, p_point, point = workspace[CONTACTS][:8]
+    n_man = workspace[SIZES][N_MANIFOLDS]
+    n_pts = workspace[SIZES][N_POINTS]
     c_a = np.empty(n_pts, dtype=np.int64)
     c_b = np.empty(n_pts, dtype=np.int64)
     c_normal = np.empty((n_pts, 2))

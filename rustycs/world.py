@@ -15,9 +15,10 @@ _BODY_TYPES = {name: code for code, name in enumerate(BODY_TYPE_NAMES)}
 class SimulationDiverged(RuntimeError):
     """A non-finite value appeared in the state: `tick` (1-based, the tick that failed) and `body`."""
 
-    def __init__(self, tick: int, body: int, message: str):
+    def __init__(self, tick: int, body: int, message: str, frames: int = 0):
         self.tick = tick
         self.body = body
+        self.frames = frames  # frames recorded by the failing `step` call before the bad tick
         super().__init__(message)
 
 
@@ -63,8 +64,13 @@ class World:
         self._inputs: dict | None = None  # the kernels' inputs, rebuilt when bodies or forces change
         self._attractors: list[dict] = []
         self._a = {name: np.zeros((0,) + shape, dtype) for name, (shape, dtype) in self._FIELDS.items()}
-        self._cache = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64),
-                       np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0), np.zeros(0), np.zeros(0))
+        # the step's buffers, kept from block to block (rebuilt when bodies are added)
+        self._workspace: tuple | None = None
+        # the last tick's contact points, one array per column, built from the workspace when asked
+        self._contact_rows = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64),
+                              np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0), np.zeros(0), np.zeros(0))
+        self._contact_rows_stale = False
+        self._no_frames: dict[str, np.ndarray] | None = None  # the step's buffer when nothing is recorded
 
     # ------------------------------------------------------------------ building
     def add_force(self, acceleration) -> None:
@@ -141,6 +147,9 @@ class World:
         a["group"][i] = collision_group
         self.body_count += 1
         self._inputs = None
+        if self._workspace is not None:  # sized for the old body count; its warm-start cache carries over
+            self._last_contacts()
+            self._workspace = None
         return i
 
     # ------------------------------------------------------------------ stepping
@@ -170,27 +179,58 @@ class World:
             settings[4:8] = (*self.bounds[0], *self.bounds[1])
         return settings
 
-    def step(self, n: int = 1) -> None:
-        """Advance n ticks in compiled code. Raises SimulationDiverged on a non-finite state."""
+    def step(self, n: int = 1, record: dict[str, np.ndarray] | None = None, every: int = 1) -> int:
+        """Advance n ticks in compiled code. Raises SimulationDiverged on a non-finite state.
+
+        With `record` (a `frame_buffer`), the state after every `every`-th tick and after the last is
+        written into its rows from 0 on, with no Python per tick; returns the number of frames
+        written. The buffer must hold them all: ceil(n / every) rows.
+        """
         ensure_fresh()
-        from rustycs.step import step_world
+        from rustycs.step import new_workspace, step_world
 
         if n <= 0:
-            return
+            return 0
         a = self._kernel_inputs()
-        result = step_world(
+        if record is None:
+            every = 0
+            record = self._no_frames = self._no_frames or self.frame_buffer(0)
+        elif len(record["tick"]) < -(-n // every):
+            raise ValueError(f"a frame buffer of {len(record['tick'])} rows cannot hold {-(-n // every)} "
+                             "frames")
+        if self._workspace is None:
+            key, *_, jn, jt = self._last_contacts()
+            self._workspace = new_workspace(self.body_count, a["local_verts"].shape[1], key, jn, jt)
+        bad, done, escaped, recorded, self._workspace = step_world(
             n, a["x"], a["angle"], a["v"], a["w"], a["inv_mass"], a["inv_inertia"], a["body_type"],
             a["kind"], a["radius"], a["nverts"], a["local_verts"], a["local_normals"], a["restitution"],
             a["friction"], a["active"], a["group"], a["gravity"], a["att_pos"], a["att_gm"], a["att_range"],
-            a["att_min"], self._settings(), *self._cache)
-        bad, done, escaped = result[0], result[1], result[2]
-        self._cache = result[3:]
+            a["att_min"], self._settings(), self._workspace, a["mass"], a["inertia"], a["origin_offset"],
+            self.tick, every, tuple(record.values()))
+        self._contact_rows_stale = True
         self.escaped_count += escaped
         if bad >= 0:
             self.tick += done + 1
             raise SimulationDiverged(self.tick, int(bad),
-                                     f"non-finite state in tick {self.tick} at body {int(bad)}")
+                                     f"non-finite state in tick {self.tick} at body {int(bad)}", recorded)
         self.tick += done
+        return recorded
+
+    def frame_buffer(self, capacity: int) -> dict[str, np.ndarray]:
+        """An empty buffer for `capacity` frames of this world (see `step` and `capture`)."""
+        from rustycs.recording import frame_buffer
+
+        return frame_buffer(capacity, self.body_count)
+
+    def capture(self, frames: dict[str, np.ndarray], row: int = 0) -> None:
+        """Write the current state into row `row` of a frame buffer, as `step` does after a tick."""
+        from rustycs.recording import record_frame
+
+        a = self._kernel_inputs()
+        _, _, _, _, _, sep, jn, _ = self._last_contacts()
+        record_frame(tuple(frames.values()), row, self.tick, a["x"], a["angle"], a["v"], a["w"], a["active"],
+                     a["body_type"], a["mass"], a["inertia"], a["inv_inertia"], a["origin_offset"],
+                     a["gravity"], a["att_pos"], a["att_gm"], a["att_range"], a["att_min"], sep, jn)
 
     # ------------------------------------------------------------------ state
     def _get(self, name: str) -> np.ndarray:
@@ -264,21 +304,28 @@ class World:
             self._a["w"][body] = angular_velocity
 
     def observables(self) -> dict:
-        """Energies and momenta of the dynamic bodies; contact count and deepest overlap of the last tick."""
-        from rustycs.observables import contact_statistics, energies_and_momenta
+        """Energies and momenta of the dynamic bodies and their fastest speed; contact count and
+        deepest overlap of the last tick."""
+        from rustycs.recording import OBSERVABLE_FIELDS
 
-        a = self._kernel_inputs()
-        kinetic, potential, momentum, angular = energies_and_momenta(
-            a["x"], a["v"], a["w"], a["mass"], a["inertia"], a["inv_inertia"], a["body_type"], a["active"],
-            a["gravity"], a["att_pos"], a["att_gm"], a["att_range"], a["att_min"])
-        count, deepest = contact_statistics(self._cache[5], self._cache[6])
-        return dict(kinetic_energy=float(kinetic), potential_energy=float(potential),
-                    linear_momentum=np.array(momentum), angular_momentum=float(angular),
-                    contact_count=int(count), max_penetration=float(deepest))
+        frames = self.frame_buffer(1)
+        self.capture(frames)
+        return {name: frames[name][0].copy() if frames[name].ndim > 1 else frames[name][0].item()
+                for name in OBSERVABLE_FIELDS}
+
+    def _last_contacts(self) -> tuple:
+        """The last tick's contact points as columns: key, body a, body b, point, normal, separation,
+        normal and tangent impulse."""
+        if self._contact_rows_stale:
+            from rustycs.step import last_contacts
+
+            self._contact_rows = last_contacts(self._workspace)
+            self._contact_rows_stale = False
+        return self._contact_rows
 
     def contacts(self) -> dict:
         """The last tick's touching contact points (overlapping or carrying load), sorted by key."""
-        key, a, b, point, normal, sep, jn, _ = self._cache
+        key, a, b, point, normal, sep, jn, _ = self._last_contacts()
         touching = (sep <= 0.0) | (jn > 0.0)
         return dict(body_a=a[touching].astype(np.int32), body_b=b[touching].astype(np.int32),
                     point=point[touching].copy(), normal=normal[touching].copy(),

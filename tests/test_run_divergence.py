@@ -63,11 +63,11 @@ def test_divergence_reported_by_the_engine_mid_block(cli, five_body_scene: Path,
 
     original = rustycs.World.step
 
-    def step(world, n: int = 1) -> None:
+    def step(world, n: int = 1, record=None, every: int = 1) -> int:
         if world.tick + n < 23:
-            return original(world, n)
-        original(world, 22 - world.tick)
-        raise rustycs.SimulationDiverged(23, 1, "non-finite state in tick 23 at body 1")
+            return original(world, n, record, every)
+        original(world, 22 - world.tick)  # ticks 21 and 22 record no frame (every 5)
+        raise rustycs.SimulationDiverged(23, 1, "non-finite state in tick 23 at body 1", frames=0)
 
     monkeypatch.setattr(rustycs.World, "step", step)
     out = tmp_path / "five.h5"

@@ -14,7 +14,8 @@ TYPES = ["static", "dynamic", "dynamic", "dynamic", "kinematic"]
 
 
 def frame(tick: int, velocity, angular_velocity, active, kinetic: float, potential: float, contacts: int,
-          penetration: float, momentum=(0.0, 0.0), angular_momentum: float = 0.0) -> Frame:
+          penetration: float, momentum=(0.0, 0.0), angular_momentum: float = 0.0,
+          speed: float = 0.0) -> Frame:
     return Frame(
         tick=tick,
         position=np.zeros((5, 2)),
@@ -24,7 +25,7 @@ def frame(tick: int, velocity, angular_velocity, active, kinetic: float, potenti
         active=np.array(active, bool),
         observables={"kinetic_energy": kinetic, "potential_energy": potential,
                      "linear_momentum": np.array(momentum), "angular_momentum": angular_momentum,
-                     "contact_count": contacts, "max_penetration": penetration},
+                     "contact_count": contacts, "max_penetration": penetration, "max_speed": speed},
         contacts=None,
     )
 
@@ -38,12 +39,12 @@ def summarise(frames: list[Frame], step_seconds: float = 0.5) -> dict:
 
 
 def test_statistics():
-    fast = [[0, 0], [3, 4], [0, 1], [1, 0], [9, 9]]  # kinematic and static speeds do not count
+    fast = [[0, 0], [3, 4], [0, 1], [1, 0], [9, 9]]
     end = [[0, 0], [0, 0.0005], [0, 0], [0, 0], [9, 9]]
-    summary = summarise([
-        frame(0, fast, [0, 0, 0, 0, 0], [1, 1, 1, 1, 1], 10.0, 5.0, 0, 0.0, (1, 0), 2.0),
-        frame(10, fast, [0, 0, 0, 0, 0], [1, 1, 1, 1, 1], 8.0, 6.0, 7, 0.02),
-        frame(20, end, [0, 0, 0.01, 0, 5], [1, 1, 1, 0, 1], 1.0, 11.5, 3, 0.005, (4, 4), -1.0),
+    summary = summarise([  # max_speed: the engine's, of the active dynamic bodies (test_engine_recording)
+        frame(0, fast, [0, 0, 0, 0, 0], [1, 1, 1, 1, 1], 10.0, 5.0, 0, 0.0, (1, 0), 2.0, speed=5.0),
+        frame(10, fast, [0, 0, 0, 0, 0], [1, 1, 1, 1, 1], 8.0, 6.0, 7, 0.02, speed=4.0),
+        frame(20, end, [0, 0, 0.01, 0, 5], [1, 1, 1, 0, 1], 1.0, 11.5, 3, 0.005, (4, 4), -1.0, speed=5e-4),
     ])
     assert summary["ticks"] == 20 and summary["frames"] == 3
     assert summary["simulated_seconds"] == pytest.approx(0.2)
