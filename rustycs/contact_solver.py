@@ -26,9 +26,10 @@ CONTACT_HERTZ = 60.0
 DAMPING_RATIO = 10.0
 MAX_PUSH_SPEED = 3.0  # m/s: the fastest speed at which overlap is pushed apart
 
-# columns of a solver body row
-VX, VY, W, INV_MASS, INV_INERTIA, DX, DY, DANGLE, COS, SIN = 0, 1, 2, 3, 4, 5, 6, 7, 8, 9
-BODY_COLUMNS = 10
+# columns of a solver body row: velocities, inverse masses, displacement and rotation (cos, sin) since the
+# narrow phase
+VX, VY, W, INV_MASS, INV_INERTIA, DX, DY, COS, SIN = 0, 1, 2, 3, 4, 5, 6, 7, 8
+BODY_COLUMNS = 9
 # columns of a contact point row
 RAX, RAY, RBX, RBY, SEPARATION, ADJUSTED_SEPARATION, NORMAL_MASS, TANGENT_MASS = 0, 1, 2, 3, 4, 5, 6, 7
 NORMAL_IMPULSE, TANGENT_IMPULSE, MAX_NORMAL_IMPULSE, RELATIVE_VELOCITY = 8, 9, 10, 11
@@ -62,7 +63,6 @@ def load_bodies(v, w, inv_mass, inv_inertia, body):
         body[i, INV_INERTIA] = inv_inertia[i]
         body[i, DX] = 0.0
         body[i, DY] = 0.0
-        body[i, DANGLE] = 0.0
         body[i, COS] = 1.0
         body[i, SIN] = 0.0
 

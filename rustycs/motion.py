@@ -7,7 +7,7 @@ import math
 from numba import njit
 
 from rustycs.body_types import DYNAMIC, STATIC
-from rustycs.contact_solver import COS, DANGLE, DX, DY, SIN, VX, VY, W
+from rustycs.contact_solver import COS, DX, DY, SIN, VX, VY, W
 
 
 @njit(cache=True)
@@ -55,9 +55,12 @@ def integrate_positions(x, angle, body, body_type, active, h):
         if body[i, W] != 0.0:
             da = h * body[i, W]
             angle[i] += da
-            body[i, DANGLE] += da
-            body[i, COS] = math.cos(body[i, DANGLE])
-            body[i, SIN] = math.sin(body[i, DANGLE])
+            # the rotation since the narrow phase, turned by da and renormalised (as Box2D does): no trig
+            c = body[i, COS] - da * body[i, SIN]
+            s = body[i, SIN] + da * body[i, COS]
+            inv = 1.0 / math.sqrt(c * c + s * s)
+            body[i, COS] = c * inv
+            body[i, SIN] = s * inv
 
 
 @njit(cache=True)
