@@ -41,9 +41,10 @@ SPECULATIVE_DISTANCE = 4.0 * LINEAR_SLOP
 DT, SUBSTEPS, RESTITUTION_THRESHOLD, HAS_BOUNDS, BOUNDS = 0, 1, 2, 3, 4
 SETTINGS_SIZE = 8
 
-# layout of the workspace tuple
-WORLD_VERTS, WORLD_NORMALS, HITBOX, REACH, GRID, EXTENTS, CELLS, PAIR_KEYS, BODY, CONTACTS = range(10)
-CACHE_KEY, CACHE_JN, CACHE_JT, SIZES = 10, 11, 12, 13
+# the workspace tuple: world vertices, world normals, hitboxes, reach, grid scratch, extents, cells,
+# pair keys, solver body rows, CONTACTS (the narrow phase's buffers), warm-start keys, normal and
+# tangent impulses, SIZES
+CONTACTS, SIZES = 9, 13
 POINT_ROWS = 7  # the solver rows of the points, in the CONTACTS tuple
 # entries of the SIZES array: last tick's manifolds and points, and warm-start cache entries
 N_MANIFOLDS, N_POINTS, N_CACHE = 0, 1, 2
