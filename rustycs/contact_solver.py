@@ -113,6 +113,14 @@ def prepare(m_a, m_b, manifold, m_first, m_count, point, body):
             pt[MAX_NORMAL_IMPULSE] = 0.0
 
 
+@njit(cache=True, inline="always")
+def _store_velocity(body, i, inv_mass, inv_inertia, vx, vy, w):
+    """Write body i's velocity back, unless it is immovable: then it is left unwritten, so that the next
+    contact with it (the ground under a row of boxes) does not wait for this one."""
+    if inv_mass != 0.0 or inv_inertia != 0.0:
+        body[i, VX], body[i, VY], body[i, W] = vx, vy, w
+
+
 @tick_kernel
 def warm_start(m_a, m_b, manifold, m_first, m_count, point, body):
     for m in range(m_a.shape[0]):
@@ -133,12 +141,8 @@ def warm_start(m_a, m_b, manifold, m_first, m_count, point, body):
             vbx += mb * px
             vby += mb * py
             wb += ib * (point[p, RBX] * py - point[p, RBY] * px)
-        # an immovable body's velocity is left unwritten, so that the next contact with it (the ground
-        # under a row of boxes) does not wait for this one
-        if ma != 0.0 or ia != 0.0:
-            body[a, VX], body[a, VY], body[a, W] = vax, vay, wa
-        if mb != 0.0 or ib != 0.0:
-            body[b, VX], body[b, VY], body[b, W] = vbx, vby, wb
+        _store_velocity(body, a, ma, ia, vax, vay, wa)
+        _store_velocity(body, b, mb, ib, vbx, vby, wb)
 
 
 @tick_kernel
@@ -206,12 +210,8 @@ def solve(m_a, m_b, manifold, m_first, m_count, point, body, inv_h, soft, stiff,
             vbx += mb * tx * impulse
             vby += mb * ty * impulse
             wb += ib * rtb * impulse
-        # an immovable body's velocity is left unwritten, so that the next contact with it (the ground
-        # under a row of boxes) does not wait for this one
-        if ma != 0.0 or ia != 0.0:
-            body[a, VX], body[a, VY], body[a, W] = vax, vay, wa
-        if mb != 0.0 or ib != 0.0:
-            body[b, VX], body[b, VY], body[b, W] = vbx, vby, wb
+        _store_velocity(body, a, ma, ia, vax, vay, wa)
+        _store_velocity(body, b, mb, ib, vbx, vby, wb)
 
 
 @tick_kernel
