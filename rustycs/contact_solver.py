@@ -1,22 +1,26 @@
 """Contact solver: soft sequential impulses with substeps and relaxation (Box2D v3's "soft step").
 
-Every tick: prepare the contact points (effective masses, the approach speed for restitution),
-then for each substep integrate velocities, warm start, solve with a soft position bias, integrate
-positions and relax without bias (so the bias that removed overlap adds no energy), then apply
-restitution once and keep the accumulated impulses for the next tick's warm start.
+Every tick: prepare the contacts (effective masses, the approach speed for restitution), then for
+each substep integrate velocities, warm start, solve with a soft position bias, integrate positions
+and relax without bias (so the bias that removed overlap adds no energy), then apply restitution and
+keep the accumulated impulses for the next tick's warm start.
 
 Impulses accumulate per point: the normal impulse is clamped at >= 0 and the friction impulse to
 |f| <= mu * normal impulse. The separation of each point is updated inside the step from the bodies'
 motion since the narrow phase, so substeps see the overlap shrink.
 
-The solver works on packed rows, one per body and one per contact point, so that a contact touches
-three cache lines rather than a dozen arrays.
+The contacts are solved in the chunks of `contact_batches.schedule`: `LANES` contacts that share no
+movable body, side by side in the lane buffer. A pass over a chunk gathers its bodies' velocities
+into the lanes, solves all lanes at once (the loop has no dependencies between lanes, so LLVM turns it
+into SIMD instructions) and scatters the velocities back; chunk after chunk, that is exactly the
+sequence of contacts sorted by body ids, applied to each body in that order.
 """
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from rustycs.body_types import DYNAMIC
@@ -30,15 +34,36 @@ MAX_PUSH_SPEED = 3.0  # m/s: the fastest speed at which overlap is pushed apart
 # narrow phase
 VX, VY, W, INV_MASS, INV_INERTIA, DX, DY, COS, SIN = 0, 1, 2, 3, 4, 5, 6, 7, 8
 BODY_COLUMNS = 9
-# columns of a contact point row
-RAX, RAY, RBX, RBY, SEPARATION, ADJUSTED_SEPARATION, NORMAL_MASS, TANGENT_MASS = 0, 1, 2, 3, 4, 5, 6, 7
-NORMAL_IMPULSE, TANGENT_IMPULSE, MAX_NORMAL_IMPULSE, RELATIVE_VELOCITY = 8, 9, 10, 11
-RNA, RNB, RTA, RTB = 12, 13, 14, 15  # anchors crossed with the normal and the tangent
-RDA, RDB = 16, 17  # anchors dotted with the normal
-POINT_COLUMNS = 18
+# columns of a contact point row, as the narrow phase finds it: anchors from both centres of mass,
+# separation, and the accumulated impulses (warm start in, result out)
+RAX, RAY, RBX, RBY, SEPARATION, NORMAL_IMPULSE, TANGENT_IMPULSE = 0, 1, 2, 3, 4, 5, 6
+POINT_COLUMNS = 7
 # columns of a manifold row
 NX, NY, FRICTION, RESTITUTION = 0, 1, 2, 3
 MANIFOLD_COLUMNS = 4
+
+# The lane buffer: chunks of `LANES` contacts, each field of a chunk `LANES` values wide (field f of
+# lane j at the chunk's start + f * LANES + j), so that a loop over a chunk's lanes reads and writes
+# consecutive values. Offsets are unsigned: numba then indexes without wrap-around checks, which keep
+# LLVM from vectorising. A contact's fields: inverse masses, normal, friction, restitution, softness,
+# then what each pass gathers from the bodies (velocities, the approach of the centres along the
+# normal and the rotations since the narrow phase).
+LANES = 8
+(L_MA, L_IA, L_MB, L_IB, L_NX, L_NY, L_MU, L_E, L_RATE, L_MASS_SCALE, L_IMPULSE_SCALE,
+ L_VAX, L_VAY, L_WA, L_VBX, L_VBY, L_WB, L_DN, L_CA, L_SA, L_CB, L_SB) = (
+    np.uint64(f * LANES) for f in range(22))
+CONTACT_FIELDS = 22
+# a point's fields, from its first: anchors, their cross products with the normal and the tangent and
+# dot products with the normal, the separation less the anchors' projection, effective masses,
+# accumulated and largest normal impulses, the approach speed before solving
+(P_RAX, P_RAY, P_RBX, P_RBY, P_RNA, P_RNB, P_RTA, P_RTB, P_RDA, P_RDB, P_SEPARATION, P_NORMAL_MASS,
+ P_TANGENT_MASS, P_NORMAL_IMPULSE, P_TANGENT_IMPULSE, P_MAX_NORMAL_IMPULSE,
+ P_RELATIVE_VELOCITY) = (np.uint64(f * LANES) for f in range(17))
+POINT_FIELDS = 17
+LANE_FIELDS = CONTACT_FIELDS + 2 * POINT_FIELDS
+_CHUNK = np.uint64(LANE_FIELDS * LANES)
+_FIRST_POINT = np.uint64(CONTACT_FIELDS * LANES)
+_POINT_STRIDE = np.uint64(POINT_FIELDS * LANES)
 
 
 @njit(cache=True)
@@ -49,6 +74,33 @@ def softness(hertz, zeta, h):
     a2 = h * omega * a1
     a3 = 1.0 / (1.0 + a2)
     return omega / a1, a2 * a3, a3
+
+
+@njit(cache=True, inline="always")
+def _lane(c, j):
+    """Index of field 0 of lane j of chunk c."""
+    return np.uint64(c) * _CHUNK + np.uint64(j)
+
+
+@njit(cache=True, inline="always")
+def _point(o, k):
+    """Index of field 0 of point k of the contact whose lane index is o."""
+    return o + _FIRST_POINT + np.uint64(k) * _POINT_STRIDE
+
+
+@njit(cache=True, inline="always")
+def _zero(lanes, start, fields):
+    """Zero `fields` fields of one lane from index `start`."""
+    for f in range(fields):
+        lanes[start + np.uint64(f * LANES)] = 0.0
+
+
+@njit(cache=True, inline="always")
+def _relative_velocity(body, a, b, rax, ray, rbx, rby):
+    """Velocity of b's contact point relative to a's (anchors fixed at the narrow phase)."""
+    dvx = (body[b, VX] - body[b, W] * rby) - (body[a, VX] - body[a, W] * ray)
+    dvy = (body[b, VY] + body[b, W] * rbx) - (body[a, VY] + body[a, W] * rax)
+    return dvx, dvy
 
 
 @tick_kernel
@@ -78,100 +130,171 @@ def store_bodies(body, v, w, body_type):
         w[i] = body[i, W]
 
 
-@njit(cache=True, inline="always")
-def _relative_velocity(body, a, b, pt):
-    """Velocity of b's contact point relative to a's (anchors fixed at the narrow phase)."""
-    dvx = (body[b, VX] - body[b, W] * pt[RBY]) - (body[a, VX] - body[a, W] * pt[RAY])
-    dvy = (body[b, VY] + body[b, W] * pt[RBX]) - (body[a, VY] + body[a, W] * pt[RAX])
-    return dvx, dvy
+@tick_kernel
+def prepare(slot_manifold, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body, soft, stiff, lanes):
+    """Fill the lanes of the scheduled contacts: inverse masses, normal, friction, restitution, softness,
+    and per point the anchors, their products with the normal and the tangent, the effective masses,
+    the approach speed (for restitution) and the warm-start impulses. An empty slot, or a manifold's
+    missing second point, is all zeros: it solves to no impulse. Contacts against an immovable body
+    get the stiffer softness: only one side gives way."""
+    for c in range(n_chunks):
+        for j in range(LANES):
+            o = _lane(c, j)
+            m = slot_manifold[c * LANES + j]
+            if m < 0:
+                _zero(lanes, o, LANE_FIELDS)
+                continue
+            a = m_a[m]
+            b = m_b[m]
+            ma, mb = body[a, INV_MASS], body[b, INV_MASS]
+            ia, ib = body[a, INV_INERTIA], body[b, INV_INERTIA]
+            nx, ny = manifold[m, NX], manifold[m, NY]
+            tx, ty = ny, -nx
+            lanes[o + L_MA] = ma
+            lanes[o + L_IA] = ia
+            lanes[o + L_MB] = mb
+            lanes[o + L_IB] = ib
+            lanes[o + L_NX] = nx
+            lanes[o + L_NY] = ny
+            lanes[o + L_MU] = manifold[m, FRICTION]
+            lanes[o + L_E] = manifold[m, RESTITUTION]
+            rate, mass_scale, impulse_scale = stiff if ma == 0.0 or mb == 0.0 else soft
+            lanes[o + L_RATE] = rate
+            lanes[o + L_MASS_SCALE] = mass_scale
+            lanes[o + L_IMPULSE_SCALE] = impulse_scale
+            for k in range(m_count[m]):
+                q = _point(o, k)
+                p = m_first[m] + k
+                rax, ray, rbx, rby = point[p, RAX], point[p, RAY], point[p, RBX], point[p, RBY]
+                lanes[q + P_RAX] = rax
+                lanes[q + P_RAY] = ray
+                lanes[q + P_RBX] = rbx
+                lanes[q + P_RBY] = rby
+                rna = rax * ny - ray * nx
+                rnb = rbx * ny - rby * nx
+                rta = rax * ty - ray * tx
+                rtb = rbx * ty - rby * tx
+                rda = rax * nx + ray * ny
+                rdb = rbx * nx + rby * ny
+                lanes[q + P_RNA] = rna
+                lanes[q + P_RNB] = rnb
+                lanes[q + P_RTA] = rta
+                lanes[q + P_RTB] = rtb
+                lanes[q + P_RDA] = rda
+                lanes[q + P_RDB] = rdb
+                kn = ma + mb + ia * rna * rna + ib * rnb * rnb
+                kt = ma + mb + ia * rta * rta + ib * rtb * rtb
+                lanes[q + P_NORMAL_MASS] = 1.0 / kn if kn > 0.0 else 0.0
+                lanes[q + P_TANGENT_MASS] = 1.0 / kt if kt > 0.0 else 0.0
+                lanes[q + P_SEPARATION] = point[p, SEPARATION] - (rdb - rda)
+                dvx, dvy = _relative_velocity(body, a, b, rax, ray, rbx, rby)
+                lanes[q + P_RELATIVE_VELOCITY] = dvx * nx + dvy * ny
+                lanes[q + P_NORMAL_IMPULSE] = point[p, NORMAL_IMPULSE]
+                lanes[q + P_TANGENT_IMPULSE] = point[p, TANGENT_IMPULSE]
+                lanes[q + P_MAX_NORMAL_IMPULSE] = 0.0
+            if m_count[m] == 1:
+                _zero(lanes, _point(o, 1), POINT_FIELDS)
 
 
 @tick_kernel
-def prepare(m_a, m_b, manifold, m_first, m_count, point, body):
-    for m in range(m_a.shape[0]):
-        a = m_a[m]
-        b = m_b[m]
-        ma, mb = body[a, INV_MASS], body[b, INV_MASS]
-        ia, ib = body[a, INV_INERTIA], body[b, INV_INERTIA]
-        nx, ny = manifold[m, NX], manifold[m, NY]
-        tx, ty = ny, -nx
-        for p in range(m_first[m], m_first[m] + m_count[m]):
-            pt = point[p]
-            rna = pt[RNA] = pt[RAX] * ny - pt[RAY] * nx
-            rnb = pt[RNB] = pt[RBX] * ny - pt[RBY] * nx
-            k = ma + mb + ia * rna * rna + ib * rnb * rnb
-            pt[NORMAL_MASS] = 1.0 / k if k > 0.0 else 0.0
-            rta = pt[RTA] = pt[RAX] * ty - pt[RAY] * tx
-            rtb = pt[RTB] = pt[RBX] * ty - pt[RBY] * tx
-            k = ma + mb + ia * rta * rta + ib * rtb * rtb
-            pt[TANGENT_MASS] = 1.0 / k if k > 0.0 else 0.0
-            rda = pt[RDA] = pt[RAX] * nx + pt[RAY] * ny
-            rdb = pt[RDB] = pt[RBX] * nx + pt[RBY] * ny
-            pt[ADJUSTED_SEPARATION] = pt[SEPARATION] - (rdb - rda)
-            dvx, dvy = _relative_velocity(body, a, b, pt)
-            pt[RELATIVE_VELOCITY] = dvx * nx + dvy * ny
-            pt[MAX_NORMAL_IMPULSE] = 0.0
+def store_impulses(slot_manifold, n_chunks, m_first, m_count, lanes, point):
+    """Copy the accumulated impulses back to the point rows (the next tick's warm start)."""
+    for c in range(n_chunks):
+        for j in range(LANES):
+            m = slot_manifold[c * LANES + j]
+            if m < 0:
+                continue
+            for k in range(m_count[m]):
+                q = _point(_lane(c, j), k)
+                point[m_first[m] + k, NORMAL_IMPULSE] = lanes[q + P_NORMAL_IMPULSE]
+                point[m_first[m] + k, TANGENT_IMPULSE] = lanes[q + P_TANGENT_IMPULSE]
 
 
 @njit(cache=True, inline="always")
-def _store_velocity(body, i, inv_mass, inv_inertia, vx, vy, w):
-    """Write body i's velocity back, unless it is immovable: then it is left unwritten, so that the next
-    contact with it (the ground under a row of boxes) does not wait for this one."""
-    if inv_mass != 0.0 or inv_inertia != 0.0:
-        body[i, VX], body[i, VY], body[i, W] = vx, vy, w
+def _gather(slot_a, slot_b, c, body, lanes, poses):
+    """Load the velocities of a chunk's bodies into its lanes; with `poses`, also the approach of the
+    centres along the normal and the rotations since the narrow phase."""
+    for j in range(LANES):
+        o = _lane(c, j)
+        a = slot_a[c * LANES + j]
+        b = slot_b[c * LANES + j]
+        lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA] = body[a, VX], body[a, VY], body[a, W]
+        lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB] = body[b, VX], body[b, VY], body[b, W]
+        if poses:
+            nx, ny = lanes[o + L_NX], lanes[o + L_NY]
+            lanes[o + L_DN] = (body[b, DX] - body[a, DX]) * nx + (body[b, DY] - body[a, DY]) * ny
+            lanes[o + L_CA], lanes[o + L_SA] = body[a, COS], body[a, SIN]
+            lanes[o + L_CB], lanes[o + L_SB] = body[b, COS], body[b, SIN]
 
 
-@tick_kernel
-def warm_start(m_a, m_b, manifold, m_first, m_count, point, body):
-    for m in range(m_a.shape[0]):
-        a = m_a[m]
-        b = m_b[m]
-        ma, ia, mb, ib = body[a, INV_MASS], body[a, INV_INERTIA], body[b, INV_MASS], body[b, INV_INERTIA]
-        vax, vay, wa = body[a, VX], body[a, VY], body[a, W]
-        vbx, vby, wb = body[b, VX], body[b, VY], body[b, W]
-        nx, ny = manifold[m, NX], manifold[m, NY]
-        for p in range(m_first[m], m_first[m] + m_count[m]):
-            jn = point[p, NORMAL_IMPULSE]
-            jt = point[p, TANGENT_IMPULSE]
+@njit(cache=True, inline="always")
+def _scatter(slot_a, slot_b, c, lanes, body):
+    """Write a chunk's velocities back to its bodies, except immovable ones: the lanes of a chunk may
+    share those, and they are never written, so that no contact waits for another through them."""
+    for j in range(LANES):
+        o = _lane(c, j)
+        a = slot_a[c * LANES + j]
+        b = slot_b[c * LANES + j]
+        if body[a, INV_MASS] != 0.0 or body[a, INV_INERTIA] != 0.0:
+            body[a, VX], body[a, VY], body[a, W] = lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA]
+        if body[b, INV_MASS] != 0.0 or body[b, INV_INERTIA] != 0.0:
+            body[b, VX], body[b, VY], body[b, W] = lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB]
+
+
+@njit(cache=True, inline="always")
+def _warm_start_lanes(c, lanes, points):
+    for j in range(LANES):
+        o = _lane(c, j)
+        ma, ia, mb, ib = lanes[o + L_MA], lanes[o + L_IA], lanes[o + L_MB], lanes[o + L_IB]
+        vax, vay, wa = lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA]
+        vbx, vby, wb = lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB]
+        nx, ny = lanes[o + L_NX], lanes[o + L_NY]
+        for k in range(points):
+            q = _point(o, k)
+            jn = lanes[q + P_NORMAL_IMPULSE]
+            jt = lanes[q + P_TANGENT_IMPULSE]
             px = jn * nx + jt * ny
             py = jn * ny - jt * nx
             vax -= ma * px
             vay -= ma * py
-            wa -= ia * (point[p, RAX] * py - point[p, RAY] * px)
+            wa -= ia * (lanes[q + P_RAX] * py - lanes[q + P_RAY] * px)
             vbx += mb * px
             vby += mb * py
-            wb += ib * (point[p, RBX] * py - point[p, RBY] * px)
-        _store_velocity(body, a, ma, ia, vax, vay, wa)
-        _store_velocity(body, b, mb, ib, vbx, vby, wb)
+            wb += ib * (lanes[q + P_RBX] * py - lanes[q + P_RBY] * px)
+        lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA] = vax, vay, wa
+        lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB] = vbx, vby, wb
 
 
 @tick_kernel
-def solve(m_a, m_b, manifold, m_first, m_count, point, body, inv_h, soft, stiff, use_bias):
-    """One pass over all contacts; with `use_bias` the soft position bias pushes overlap apart.
+def warm_start(slot_a, slot_b, chunk_points, n_chunks, lanes, body):
+    """Apply the accumulated impulses again at the start of a substep."""
+    for c in range(n_chunks):
+        _gather(slot_a, slot_b, c, body, lanes, False)
+        if chunk_points[c] == 2:  # a compile-time point count: the lane loop has no inner loop left
+            _warm_start_lanes(c, lanes, 2)
+        else:
+            _warm_start_lanes(c, lanes, 1)
+        _scatter(slot_a, slot_b, c, lanes, body)
 
-    `soft` and `stiff` are the softness (bias rate, mass scale, impulse scale) of contacts between
-    two movable bodies and against an immovable one, for substeps of 1 / inv_h seconds. Both bodies'
-    velocities stay in locals while their manifold is solved (fewer loads and stores).
-    """
-    for m in range(m_a.shape[0]):
-        a = m_a[m]
-        b = m_b[m]
-        ma, ia, mb, ib = body[a, INV_MASS], body[a, INV_INERTIA], body[b, INV_MASS], body[b, INV_INERTIA]
-        vax, vay, wa = body[a, VX], body[a, VY], body[a, W]
-        vbx, vby, wb = body[b, VX], body[b, VY], body[b, W]
-        nx, ny = manifold[m, NX], manifold[m, NY]
-        rate, mscale, iscale = stiff if ma == 0.0 or mb == 0.0 else soft
-        ca, sa, cb, sb = body[a, COS], body[a, SIN], body[b, COS], body[b, SIN]
-        # the centres' approach along the normal since the narrow phase
-        dn = (body[b, DX] - body[a, DX]) * nx + (body[b, DY] - body[a, DY]) * ny
-        first = m_first[m]
-        last = first + m_count[m]
-        for p in range(first, last):
-            rna, rnb = point[p, RNA], point[p, RNB]
+
+@njit(cache=True, inline="always")
+def _solve_lanes(c, lanes, inv_h, use_bias, points):
+    for j in range(LANES):
+        o = _lane(c, j)
+        ma, ia, mb, ib = lanes[o + L_MA], lanes[o + L_IA], lanes[o + L_MB], lanes[o + L_IB]
+        vax, vay, wa = lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA]
+        vbx, vby, wb = lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB]
+        nx, ny = lanes[o + L_NX], lanes[o + L_NY]
+        rate, mscale, iscale = lanes[o + L_RATE], lanes[o + L_MASS_SCALE], lanes[o + L_IMPULSE_SCALE]
+        dn = lanes[o + L_DN]
+        ca, sa, cb, sb = lanes[o + L_CA], lanes[o + L_SA], lanes[o + L_CB], lanes[o + L_SB]
+        for k in range(points):
+            q = _point(o, k)
+            rna, rnb = lanes[q + P_RNA], lanes[q + P_RNB]
             # current separation: the anchors turned by each body's rotation since the narrow phase,
             # projected on the normal through their precomputed dot and cross products
-            s = (dn + (cb * point[p, RDB] + sb * rnb) - (ca * point[p, RDA] + sa * rna)
-                 + point[p, ADJUSTED_SEPARATION])
+            s = (dn + (cb * lanes[q + P_RDB] + sb * rnb) - (ca * lanes[q + P_RDA] + sa * rna)
+                 + lanes[q + P_SEPARATION])
             bias = 0.0
             mass_scale = 1.0
             impulse_scale = 0.0
@@ -181,13 +304,12 @@ def solve(m_a, m_b, manifold, m_first, m_count, point, body, inv_h, soft, stiff,
                 bias = max(rate * s, -MAX_PUSH_SPEED)
                 mass_scale = mscale
                 impulse_scale = iscale
-            # the velocity chain from one point to the next is kept short: cross products precomputed
             vn = (vbx - vax) * nx + (vby - vay) * ny + (wb * rnb - wa * rna)
-            old = point[p, NORMAL_IMPULSE]
-            total = max(old - point[p, NORMAL_MASS] * mass_scale * (vn + bias) - impulse_scale * old, 0.0)
+            old = lanes[q + P_NORMAL_IMPULSE]
+            total = max(old - lanes[q + P_NORMAL_MASS] * mass_scale * (vn + bias) - impulse_scale * old, 0.0)
             impulse = total - old
-            point[p, NORMAL_IMPULSE] = total
-            point[p, MAX_NORMAL_IMPULSE] = max(point[p, MAX_NORMAL_IMPULSE], impulse)
+            lanes[q + P_NORMAL_IMPULSE] = total
+            lanes[q + P_MAX_NORMAL_IMPULSE] = max(lanes[q + P_MAX_NORMAL_IMPULSE], impulse)
             vax -= ma * nx * impulse
             vay -= ma * ny * impulse
             wa -= ia * rna * impulse
@@ -195,14 +317,15 @@ def solve(m_a, m_b, manifold, m_first, m_count, point, body, inv_h, soft, stiff,
             vby += mb * ny * impulse
             wb += ib * rnb * impulse
         tx, ty = ny, -nx
-        mu = manifold[m, FRICTION]
-        for p in range(first, last):
-            rta, rtb = point[p, RTA], point[p, RTB]
+        mu = lanes[o + L_MU]
+        for k in range(points):
+            q = _point(o, k)
+            rta, rtb = lanes[q + P_RTA], lanes[q + P_RTB]
             vt = (vbx - vax) * tx + (vby - vay) * ty + (wb * rtb - wa * rta)
-            limit = mu * point[p, NORMAL_IMPULSE]
-            old = point[p, TANGENT_IMPULSE]
-            total = min(max(old - point[p, TANGENT_MASS] * vt, -limit), limit)
-            point[p, TANGENT_IMPULSE] = total
+            limit = mu * lanes[q + P_NORMAL_IMPULSE]
+            old = lanes[q + P_TANGENT_IMPULSE]
+            total = min(max(old - lanes[q + P_TANGENT_MASS] * vt, -limit), limit)
+            lanes[q + P_TANGENT_IMPULSE] = total
             impulse = total - old
             vax -= ma * tx * impulse
             vay -= ma * ty * impulse
@@ -210,37 +333,55 @@ def solve(m_a, m_b, manifold, m_first, m_count, point, body, inv_h, soft, stiff,
             vbx += mb * tx * impulse
             vby += mb * ty * impulse
             wb += ib * rtb * impulse
-        _store_velocity(body, a, ma, ia, vax, vay, wa)
-        _store_velocity(body, b, mb, ib, vbx, vby, wb)
+        lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA] = vax, vay, wa
+        lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB] = vbx, vby, wb
 
 
 @tick_kernel
-def restitute(m_a, m_b, manifold, m_first, m_count, point, body, threshold):
-    """Bounce: set the normal speed to -e times the approach speed measured before solving."""
-    for m in range(m_a.shape[0]):
-        e = manifold[m, RESTITUTION]
-        if e == 0.0:
-            continue
-        a = m_a[m]
-        b = m_b[m]
-        ma, ia, mb, ib = body[a, INV_MASS], body[a, INV_INERTIA], body[b, INV_MASS], body[b, INV_INERTIA]
-        nx, ny = manifold[m, NX], manifold[m, NY]
-        for p in range(m_first[m], m_first[m] + m_count[m]):
-            pt = point[p]
-            if pt[RELATIVE_VELOCITY] > -threshold or pt[MAX_NORMAL_IMPULSE] == 0.0:
+def solve(slot_a, slot_b, chunk_points, n_chunks, lanes, body, inv_h, use_bias):
+    """One pass over all contacts; with `use_bias` the soft position bias pushes overlap apart, with
+    each contact's softness (bias rate, mass and impulse scales) for substeps of 1 / inv_h seconds."""
+    for c in range(n_chunks):
+        _gather(slot_a, slot_b, c, body, lanes, True)
+        if chunk_points[c] == 2:
+            _solve_lanes(c, lanes, inv_h, use_bias, 2)
+        else:
+            _solve_lanes(c, lanes, inv_h, use_bias, 1)
+        _scatter(slot_a, slot_b, c, lanes, body)
+
+
+@tick_kernel
+def restitute(slot_a, slot_b, n_chunks, lanes, body, threshold):
+    """Bounce: set the normal speed to -e times the approach speed measured before solving. Few
+    contacts bounce, so this pass works lane by lane on the body rows."""
+    for c in range(n_chunks):
+        for j in range(LANES):
+            o = _lane(c, j)
+            e = lanes[o + L_E]
+            if e == 0.0:
                 continue
-            dvx, dvy = _relative_velocity(body, a, b, pt)
-            vn = dvx * nx + dvy * ny
-            old = pt[NORMAL_IMPULSE]
-            total = max(old - pt[NORMAL_MASS] * (vn + e * pt[RELATIVE_VELOCITY]), 0.0)
-            impulse = total - old
-            pt[NORMAL_IMPULSE] = total
-            pt[MAX_NORMAL_IMPULSE] = max(pt[MAX_NORMAL_IMPULSE], impulse)
-            px = impulse * nx
-            py = impulse * ny
-            body[a, VX] -= ma * px
-            body[a, VY] -= ma * py
-            body[a, W] -= ia * (pt[RAX] * py - pt[RAY] * px)
-            body[b, VX] += mb * px
-            body[b, VY] += mb * py
-            body[b, W] += ib * (pt[RBX] * py - pt[RBY] * px)
+            a = slot_a[c * LANES + j]
+            b = slot_b[c * LANES + j]
+            ma, ia, mb, ib = lanes[o + L_MA], lanes[o + L_IA], lanes[o + L_MB], lanes[o + L_IB]
+            nx, ny = lanes[o + L_NX], lanes[o + L_NY]
+            for k in range(2):
+                q = _point(o, k)
+                approach = lanes[q + P_RELATIVE_VELOCITY]
+                if approach > -threshold or lanes[q + P_MAX_NORMAL_IMPULSE] == 0.0:
+                    continue
+                rax, ray, rbx, rby = lanes[q + P_RAX], lanes[q + P_RAY], lanes[q + P_RBX], lanes[q + P_RBY]
+                dvx, dvy = _relative_velocity(body, a, b, rax, ray, rbx, rby)
+                vn = dvx * nx + dvy * ny
+                old = lanes[q + P_NORMAL_IMPULSE]
+                total = max(old - lanes[q + P_NORMAL_MASS] * (vn + e * approach), 0.0)
+                impulse = total - old
+                lanes[q + P_NORMAL_IMPULSE] = total
+                lanes[q + P_MAX_NORMAL_IMPULSE] = max(lanes[q + P_MAX_NORMAL_IMPULSE], impulse)
+                px = impulse * nx
+                py = impulse * ny
+                body[a, VX] -= ma * px
+                body[a, VY] -= ma * py
+                body[a, W] -= ia * (rax * py - ray * px)
+                body[b, VX] += mb * px
+                body[b, VY] += mb * py
+                body[b, W] += ib * (rbx * py - rby * px)

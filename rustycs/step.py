@@ -13,10 +13,13 @@ import numpy as np
 from numba import njit
 
 from rustycs.broad_phase import find_pairs, grid_scratch_size
+from rustycs.contact_batches import batch_buffers, schedule
 from rustycs.contact_solver import (
     BODY_COLUMNS,
     CONTACT_HERTZ,
     DAMPING_RATIO,
+    LANE_FIELDS,
+    LANES,
     NORMAL_IMPULSE,
     NX,
     NY,
@@ -28,6 +31,7 @@ from rustycs.contact_solver import (
     softness,
     solve,
     store_bodies,
+    store_impulses,
     warm_start,
 )
 from rustycs.hitbox import update_geometry
@@ -42,8 +46,9 @@ DT, SUBSTEPS, RESTITUTION_THRESHOLD, HAS_BOUNDS, BOUNDS = 0, 1, 2, 3, 4
 SETTINGS_SIZE = 8
 
 # the workspace tuple: world vertices, world normals, hitboxes, reach, grid scratch, extents, cells,
-# pair keys, solver body rows, CONTACTS (the narrow phase's buffers), warm-start keys, normal and
-# tangent impulses, SIZES
+# pair keys, solver body rows (one more than bodies: the immovable row of empty lane slots), CONTACTS
+# (the narrow phase's buffers), warm-start keys, normal and tangent impulses, SIZES, the batches'
+# buffers (`contact_batches.batch_buffers`), the solver's lanes
 CONTACTS, SIZES = 9, 13
 POINT_ROWS = 7  # the solver rows of the points, in the CONTACTS tuple
 # entries of the SIZES array: last tick's manifolds and points, and warm-start cache entries
@@ -63,10 +68,11 @@ def new_workspace(n, max_vertices, c_key, c_jn, c_jt):
     cache_jt[:k] = c_jt
     sizes = np.zeros(3, dtype=np.int64)
     sizes[N_CACHE] = k
+    batches = batch_buffers(n, capacity)
     return (np.zeros((n, max_vertices, 2)), np.zeros((n, max_vertices, 2)), np.zeros((n, 4)), np.zeros(n),
             np.empty(grid_scratch_size(n), dtype=np.int64), np.empty(n), np.empty(capacity, dtype=np.int64),
-            np.empty(capacity, dtype=np.int64), np.empty((n, BODY_COLUMNS)), contact_buffers(capacity),
-            cache_key, cache_jn, cache_jt, sizes)
+            np.empty(capacity, dtype=np.int64), np.zeros((n + 1, BODY_COLUMNS)), contact_buffers(capacity),
+            cache_key, cache_jn, cache_jt, sizes, batches, np.empty(capacity * LANE_FIELDS))
 
 
 @njit(cache=True, nogil=True)
@@ -93,7 +99,7 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
     # contacts against an immovable body are stiffer: only one side gives way
     stiff = softness(2.0 * contact_hertz, DAMPING_RATIO, h)
     (world_verts, world_normals, hitbox, reach, grid, extents, cells, pair_keys, body, contacts,
-     cache_key, cache_jn, cache_jt, sizes) = workspace
+     cache_key, cache_jn, cache_jt, sizes, batches, lanes) = workspace
     n_cache = sizes[N_CACHE]
     escaped = 0
     bad = -1
@@ -112,6 +118,7 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
             n_pairs, n_entries = find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, pair_keys)
         if n_pairs > contacts[0].shape[0]:
             contacts = contact_buffers(2 * n_pairs)
+            batches = batch_buffers(x.shape[0], 2 * n_pairs)
         n_man, n_pts = narrow_phase(pair_keys[:n_pairs], x, reach, kind, radius, nverts, world_verts,
                                     world_normals, friction, restitution, SPECULATIVE_DISTANCE, contacts)
         sizes[N_MANIFOLDS] = n_man
@@ -135,18 +142,24 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
                 point[p, TANGENT_IMPULSE] = cache_jt[f]
 
         load_bodies(v, w, inv_mass, inv_inertia, body)
-        prepare(m_a, m_b, manifold, m_first, m_count, point, body)
+        n_chunks = schedule(m_a, m_b, m_count, body, batches)
+        if n_chunks * LANES * LANE_FIELDS > lanes.shape[0]:  # rare: the contacts need more lanes
+            lanes = np.empty(2 * n_chunks * LANES * LANE_FIELDS)
+        slot_manifold, slot_a, slot_b, chunk_points = batches[3:]
+        prepare(slot_manifold, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body, soft, stiff,
+                lanes)
         for _ in range(substeps):
             integrate_velocities(body, x, body_type, active, gravity, att_pos, att_gm, att_range,
                                  att_min_distance, h)
-            warm_start(m_a, m_b, manifold, m_first, m_count, point, body)
-            solve(m_a, m_b, manifold, m_first, m_count, point, body, 1.0 / h, soft, stiff, True)
+            warm_start(slot_a, slot_b, chunk_points, n_chunks, lanes, body)
+            solve(slot_a, slot_b, chunk_points, n_chunks, lanes, body, 1.0 / h, True)
             integrate_positions(x, angle, body, body_type, active, h)
-            solve(m_a, m_b, manifold, m_first, m_count, point, body, 1.0 / h, soft, stiff, False)
+            solve(slot_a, slot_b, chunk_points, n_chunks, lanes, body, 1.0 / h, False)
         # a single pass would favour the first point of a two-point manifold (a flat box would
         # bounce unevenly and spin); repeated passes converge to -e times the approach speed at both
         for _ in range(substeps):
-            restitute(m_a, m_b, manifold, m_first, m_count, point, body, threshold)
+            restitute(slot_a, slot_b, n_chunks, lanes, body, threshold)
+        store_impulses(slot_manifold, n_chunks, m_first, m_count, lanes, point)
         store_bodies(body, v, w, body_type)
 
         # this tick's impulses warm-start the next
@@ -173,7 +186,7 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
                          att_min_distance, point[:, SEPARATION], point[:, NORMAL_IMPULSE])
             recorded += 1
     workspace = (world_verts, world_normals, hitbox, reach, grid, extents, cells, pair_keys, body, contacts,
-                 cache_key, cache_jn, cache_jt, sizes)
+                 cache_key, cache_jn, cache_jt, sizes, batches, lanes)
     return bad, done, escaped, recorded, workspace
 
 

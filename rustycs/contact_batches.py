@@ -1,0 +1,78 @@
+"""Batches: a tick's contacts placed in chunks of `LANES` that share no movable body, in an order that
+solves exactly like one pass over the contacts sorted by body ids.
+
+Sequential impulses depend on the order of two contacts only when they share a body that moves: an
+immovable body's velocity is read, never written. Each contact, taken in sorted order, goes into the
+first chunk with a free lane after the chunks of the earlier contacts on its movable bodies. Solving
+chunk after chunk then applies to every body its contacts in sorted order: the result is bit for bit
+that of the sorted sequence, while the contacts of one chunk are independent and are solved side by
+side, in SIMD lanes. A chunk's unused lanes are empty slots referring to the solver's extra body
+row, which is immovable and at rest: solving them changes nothing.
+
+The chains of contacts that must follow each other are short in practice: the 210-box pyramid's
+longest has 111 of its 590 contacts, so four lanes are nearly always full.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from rustycs.contact_solver import INV_INERTIA, INV_MASS, LANES
+from rustycs.tick_kernel import tick_kernel
+
+
+@njit(cache=True)
+def batch_buffers(n_bodies, manifolds):
+    """Buffers of `schedule` for n bodies and up to `manifolds` manifolds (as many chunks at most):
+    each body's first possible chunk, each chunk's next open chunk and fill, each slot's manifold and
+    bodies, each chunk's largest point count."""
+    slots = manifolds * LANES
+    return (np.zeros(n_bodies + 1, np.int64), np.zeros(manifolds + 1, np.int64),
+            np.zeros(manifolds, np.int64), np.zeros(slots, np.int64), np.zeros(slots, np.int64),
+            np.zeros(slots, np.int64), np.zeros(manifolds, np.int64))
+
+
+@njit(cache=True, inline="always")
+def _movable(body, i):
+    return body[i, INV_MASS] != 0.0 or body[i, INV_INERTIA] != 0.0
+
+
+@tick_kernel
+def schedule(m_a, m_b, m_count, body, batches):
+    """Place the manifolds (sorted by body ids) in chunks of lane slots; returns the chunk count."""
+    first_chunk, next_open, fill, slot_manifold, slot_a, slot_b, chunk_points = batches
+    empty = body.shape[0] - 1  # the solver's immovable extra row
+    for i in range(body.shape[0]):
+        first_chunk[i] = 0
+    n_chunks = 0
+    next_open[0] = 0
+    for m in range(m_a.shape[0]):
+        a = m_a[m]
+        b = m_b[m]
+        k = max(first_chunk[a], first_chunk[b])
+        while next_open[k] != k:  # the first chunk from k on with a free lane (path halving)
+            next_open[k] = next_open[next_open[k]]
+            k = next_open[k]
+        if k == n_chunks:  # a new chunk, all slots empty
+            n_chunks += 1
+            next_open[n_chunks] = n_chunks
+            fill[k] = 0
+            chunk_points[k] = 1
+            for s in range(k * LANES, (k + 1) * LANES):
+                slot_manifold[s] = -1
+                slot_a[s] = empty
+                slot_b[s] = empty
+        s = k * LANES + fill[k]
+        fill[k] += 1
+        if fill[k] == LANES:
+            next_open[k] = k + 1
+        slot_manifold[s] = m
+        slot_a[s] = a
+        slot_b[s] = b
+        chunk_points[k] = max(chunk_points[k], m_count[m])
+        if _movable(body, a):
+            first_chunk[a] = k + 1
+        if _movable(body, b):
+            first_chunk[b] = k + 1
+    return n_chunks
