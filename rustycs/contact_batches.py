@@ -6,8 +6,8 @@ immovable body's velocity is read, never written. Each contact, taken in sorted 
 first chunk with a free lane after the chunks of the earlier contacts on its movable bodies. Solving
 chunk after chunk then applies to every body its contacts in sorted order: the result is bit for bit
 that of the sorted sequence, while the contacts of one chunk are independent and are solved side by
-side, in SIMD lanes. A chunk's unused lanes are empty slots referring to the solver's extra body
-row, which is immovable and at rest: solving them changes nothing.
+side, in SIMD lanes. A chunk's lanes are filled from the first; the solver zeroes the rest, so that
+solving them changes nothing.
 
 The chains of contacts that must follow each other are short in practice: the 210-box pyramid's
 longest has 111 of its 590 contacts, so four lanes are nearly always full.
@@ -25,12 +25,12 @@ from rustycs.tick_kernel import tick_kernel
 @njit(cache=True)
 def batch_buffers(n_bodies, manifolds):
     """Buffers of `schedule` for n bodies and up to `manifolds` manifolds (as many chunks at most):
-    each body's first possible chunk, each chunk's next open chunk and fill, each slot's manifold and
-    bodies, each chunk's largest point count."""
+    each body's first possible chunk; per chunk the next one with a free lane, the lanes filled and the
+    largest point count; per slot (lane) its manifold and bodies."""
     slots = manifolds * LANES
-    return (np.zeros(n_bodies + 1, np.int64), np.zeros(manifolds + 1, np.int64),
+    return (np.zeros(n_bodies, np.int64), np.zeros(manifolds + 1, np.int64), np.zeros(manifolds, np.int64),
             np.zeros(manifolds, np.int64), np.zeros(slots, np.int64), np.zeros(slots, np.int64),
-            np.zeros(slots, np.int64), np.zeros(manifolds, np.int64))
+            np.zeros(slots, np.int64))
 
 
 @njit(cache=True, inline="always")
@@ -41,9 +41,8 @@ def _movable(body, i):
 @tick_kernel
 def schedule(m_a, m_b, m_count, body, batches):
     """Place the manifolds (sorted by body ids) in chunks of lane slots; returns the chunk count."""
-    first_chunk, next_open, fill, slot_manifold, slot_a, slot_b, chunk_points = batches
-    empty = body.shape[0] - 1  # the solver's immovable extra row
-    for i in range(body.shape[0]):
+    first_chunk, next_open, fill, chunk_points, slot_manifold, slot_a, slot_b = batches
+    for i in range(first_chunk.shape[0]):
         first_chunk[i] = 0
     n_chunks = 0
     next_open[0] = 0
@@ -54,15 +53,11 @@ def schedule(m_a, m_b, m_count, body, batches):
         while next_open[k] != k:  # the first chunk from k on with a free lane (path halving)
             next_open[k] = next_open[next_open[k]]
             k = next_open[k]
-        if k == n_chunks:  # a new chunk, all slots empty
+        if k == n_chunks:  # a new chunk
             n_chunks += 1
             next_open[n_chunks] = n_chunks
             fill[k] = 0
             chunk_points[k] = 1
-            for s in range(k * LANES, (k + 1) * LANES):
-                slot_manifold[s] = -1
-                slot_a[s] = empty
-                slot_b[s] = empty
         s = k * LANES + fill[k]
         fill[k] += 1
         if fill[k] == LANES:

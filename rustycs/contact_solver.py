@@ -131,19 +131,19 @@ def store_bodies(body, v, w, body_type):
 
 
 @tick_kernel
-def prepare(slot_manifold, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body, soft, stiff, lanes):
+def prepare(batches, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body, soft, stiff, lanes):
     """Fill the lanes of the scheduled contacts: inverse masses, normal, friction, restitution, softness,
     and per point the anchors, their products with the normal and the tangent, the effective masses,
-    the approach speed (for restitution) and the warm-start impulses. An empty slot, or a manifold's
+    the approach speed (for restitution) and the warm-start impulses. An empty lane, or a manifold's
     missing second point, is all zeros: it solves to no impulse. Contacts against an immovable body
     get the stiffer softness: only one side gives way."""
+    _, _, fill, _, slot_manifold, _, _ = batches
     for c in range(n_chunks):
-        for j in range(LANES):
+        for j in range(fill[c], LANES):
+            _zero(lanes, _lane(c, j), LANE_FIELDS)
+        for j in range(fill[c]):
             o = _lane(c, j)
             m = slot_manifold[c * LANES + j]
-            if m < 0:
-                _zero(lanes, o, LANE_FIELDS)
-                continue
             a = m_a[m]
             b = m_b[m]
             ma, mb = body[a, INV_MASS], body[b, INV_MASS]
@@ -197,13 +197,12 @@ def prepare(slot_manifold, n_chunks, m_a, m_b, manifold, m_first, m_count, point
 
 
 @tick_kernel
-def store_impulses(slot_manifold, n_chunks, m_first, m_count, lanes, point):
+def store_impulses(batches, n_chunks, m_first, m_count, lanes, point):
     """Copy the accumulated impulses back to the point rows (the next tick's warm start)."""
+    _, _, fill, _, slot_manifold, _, _ = batches
     for c in range(n_chunks):
-        for j in range(LANES):
+        for j in range(fill[c]):
             m = slot_manifold[c * LANES + j]
-            if m < 0:
-                continue
             for k in range(m_count[m]):
                 q = _point(_lane(c, j), k)
                 point[m_first[m] + k, NORMAL_IMPULSE] = lanes[q + P_NORMAL_IMPULSE]
@@ -211,10 +210,11 @@ def store_impulses(slot_manifold, n_chunks, m_first, m_count, lanes, point):
 
 
 @njit(cache=True, inline="always")
-def _gather(slot_a, slot_b, c, body, lanes, poses):
+def _gather(batches, c, body, lanes, poses):
     """Load the velocities of a chunk's bodies into its lanes; with `poses`, also the approach of the
-    centres along the normal and the rotations since the narrow phase."""
-    for j in range(LANES):
+    centres along the normal and the rotations since the narrow phase. Empty lanes keep their zeros."""
+    _, _, fill, _, _, slot_a, slot_b = batches
+    for j in range(fill[c]):
         o = _lane(c, j)
         a = slot_a[c * LANES + j]
         b = slot_b[c * LANES + j]
@@ -228,10 +228,11 @@ def _gather(slot_a, slot_b, c, body, lanes, poses):
 
 
 @njit(cache=True, inline="always")
-def _scatter(slot_a, slot_b, c, lanes, body):
+def _scatter(batches, c, lanes, body):
     """Write a chunk's velocities back to its bodies, except immovable ones: the lanes of a chunk may
     share those, and they are never written, so that no contact waits for another through them."""
-    for j in range(LANES):
+    _, _, fill, _, _, slot_a, slot_b = batches
+    for j in range(fill[c]):
         o = _lane(c, j)
         a = slot_a[c * LANES + j]
         b = slot_b[c * LANES + j]
@@ -265,16 +266,17 @@ def _warm_start_lanes(c, lanes, points):
         lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB] = vbx, vby, wb
 
 
-@tick_kernel
-def warm_start(slot_a, slot_b, chunk_points, n_chunks, lanes, body):
+@njit(cache=True, inline="always")
+def warm_start(batches, n_chunks, lanes, body):
     """Apply the accumulated impulses again at the start of a substep."""
+    chunk_points = batches[3]
     for c in range(n_chunks):
-        _gather(slot_a, slot_b, c, body, lanes, False)
+        _gather(batches, c, body, lanes, False)
         if chunk_points[c] == 2:  # a compile-time point count: the lane loop has no inner loop left
             _warm_start_lanes(c, lanes, 2)
         else:
             _warm_start_lanes(c, lanes, 1)
-        _scatter(slot_a, slot_b, c, lanes, body)
+        _scatter(batches, c, lanes, body)
 
 
 @njit(cache=True, inline="always")
@@ -337,25 +339,27 @@ def _solve_lanes(c, lanes, inv_h, use_bias, points):
         lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB] = vbx, vby, wb
 
 
-@tick_kernel
-def solve(slot_a, slot_b, chunk_points, n_chunks, lanes, body, inv_h, use_bias):
+@njit(cache=True, inline="always")
+def solve(batches, n_chunks, lanes, body, inv_h, use_bias):
     """One pass over all contacts; with `use_bias` the soft position bias pushes overlap apart, with
     each contact's softness (bias rate, mass and impulse scales) for substeps of 1 / inv_h seconds."""
+    chunk_points = batches[3]
     for c in range(n_chunks):
-        _gather(slot_a, slot_b, c, body, lanes, True)
+        _gather(batches, c, body, lanes, True)
         if chunk_points[c] == 2:
             _solve_lanes(c, lanes, inv_h, use_bias, 2)
         else:
             _solve_lanes(c, lanes, inv_h, use_bias, 1)
-        _scatter(slot_a, slot_b, c, lanes, body)
+        _scatter(batches, c, lanes, body)
 
 
-@tick_kernel
-def restitute(slot_a, slot_b, n_chunks, lanes, body, threshold):
+@njit(cache=True, inline="always")
+def restitute(batches, n_chunks, lanes, body, threshold):
     """Bounce: set the normal speed to -e times the approach speed measured before solving. Few
     contacts bounce, so this pass works lane by lane on the body rows."""
+    _, _, fill, _, _, slot_a, slot_b = batches
     for c in range(n_chunks):
-        for j in range(LANES):
+        for j in range(fill[c]):
             o = _lane(c, j)
             e = lanes[o + L_E]
             if e == 0.0:

@@ -29,7 +29,7 @@ def attraction(px, py, att_pos, att_gm, att_range, att_min_distance):
     return ax, ay
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def integrate_velocities(body, x, body_type, active, gravity, att_pos, att_gm, att_range,
                          att_min_distance, h):
     for i in range(x.shape[0]):
@@ -40,7 +40,7 @@ def integrate_velocities(body, x, body_type, active, gravity, att_pos, att_gm, a
         body[i, VY] += h * (gravity[1] + ay)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def integrate_positions(x, angle, body, body_type, active, h):
     """Move bodies and keep their displacement since the narrow phase (for the contact solver)."""
     for i in range(x.shape[0]):
