@@ -1,5 +1,10 @@
 """Broad phase: candidate pairs from overlapping hitboxes, through a uniform grid.
 
+The pairs are found for fat hitboxes (each hitbox grown by `FAT_MARGIN`) and kept while every body's
+hitbox stays inside its fat one and no body is switched on or off: a resting pile then needs no
+broad phase at all, as in Box2D's tree of fat boxes. A pair of fat boxes that do not touch as hitboxes
+gives no contact in the narrow phase, so the contacts are those of the hitboxes' pairs, bit for bit.
+
 The grid covers the hitboxes of the dynamic bodies only and its cell size follows their median size,
 so the cost grows near-linearly with evenly spread bodies. Static and kinematic bodies are inserted
 clipped to that domain, so a huge floor costs one row of cells. A pair is reported once, by the cell
@@ -19,7 +24,7 @@ from rustycs.tick_kernel import tick_kernel
 
 
 @njit(cache=True, inline="always")
-def _overlap(hitbox, i, j):
+def hitboxes_overlap(hitbox, i, j):
     return (hitbox[i, 0] <= hitbox[j, 2] and hitbox[j, 0] <= hitbox[i, 2]
             and hitbox[i, 1] <= hitbox[j, 3] and hitbox[j, 1] <= hitbox[i, 3])
 
@@ -28,6 +33,33 @@ def _overlap(hitbox, i, j):
 def _cell(value, origin, inv_cell, count):
     """Grid index of a coordinate, clamped in floating point so that far bodies cannot overflow."""
     return int(min(max((value - origin) * inv_cell, 0.0), count - 1.0))
+
+
+FAT_MARGIN = 0.1  # m: how far a hitbox may move or grow before the pairs are found again
+
+
+@tick_kernel
+def pairs_hold(hitbox, active, fat, fat_active):
+    """Whether the pairs found for the fat hitboxes still hold: no body was switched on or off, and
+    every active body's hitbox lies inside its fat one (a non-finite hitbox does not)."""
+    for i in range(hitbox.shape[0]):
+        if active[i] != fat_active[i]:
+            return False
+        if active[i] and not (fat[i, 0] <= hitbox[i, 0] and fat[i, 1] <= hitbox[i, 1]
+                              and hitbox[i, 2] <= fat[i, 2] and hitbox[i, 3] <= fat[i, 3]):
+            return False
+    return True
+
+
+@tick_kernel
+def fatten(hitbox, active, fat, fat_active):
+    """The fat hitboxes the pairs are found for, and the active flags they hold for."""
+    for i in range(hitbox.shape[0]):
+        fat[i, 0] = hitbox[i, 0] - FAT_MARGIN
+        fat[i, 1] = hitbox[i, 1] - FAT_MARGIN
+        fat[i, 2] = hitbox[i, 2] + FAT_MARGIN
+        fat[i, 3] = hitbox[i, 3] + FAT_MARGIN
+        fat_active[i] = active[i]
 
 
 BODY_BITS = 28  # a pair's key: (a << BODY_BITS) | b, so that keys sort by (a, b)
@@ -169,7 +201,7 @@ def find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, keys):
                     if (max(ranges[4 * i], ranges[4 * j]) != cx
                             or max(ranges[4 * i + 1], ranges[4 * j + 1]) != cy):
                         continue
-                    if not _overlap(hitbox, i, j):
+                    if not hitboxes_overlap(hitbox, i, j):
                         continue
                     if inv_mass[i] == 0.0 and inv_mass[j] == 0.0:
                         continue

@@ -18,7 +18,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rustycs.broad_phase import BODY_BITS, BODY_MASK
+from rustycs.broad_phase import BODY_BITS, BODY_MASK, hitboxes_overlap
 from rustycs.contact_solver import (
     FRICTION,
     MANIFOLD_COLUMNS,
@@ -230,15 +230,16 @@ def contact_buffers(capacity):
 
 
 @tick_kernel
-def narrow_phase(pair_keys, x, reach, kind, radius, nverts, world_verts, world_normals, friction, restitution,
-                 margin, contacts):
+def narrow_phase(pair_keys, x, hitbox, reach, kind, radius, nverts, world_verts, world_normals, friction,
+                 restitution, margin, contacts):
     """Manifolds of the candidate pairs (keys (a << BODY_BITS) | b), in pair order, and their points in
     feature order, written into `contacts` (from `contact_buffers`, for at least as many pairs).
 
     A pair's points are kept within `margin` plus both bodies' travel in one tick (each body's reach is
-    the margin plus its travel). A point's key is its pair's key and feature id packed into one int64;
-    its solver row holds the anchors relative to both centres of mass and the separation, with zero
-    impulses. Returns (manifold count, point count).
+    the margin plus its travel), so a pair whose hitboxes (grown by the reach) do not overlap has none:
+    it is passed over (the broad phase's pairs are those of fat hitboxes). A point's key is its pair's
+    key and feature id packed into one int64; its solver row holds the anchors relative to both centres
+    of mass and the separation, with zero impulses. Returns (manifold count, point count).
     """
     m_a, m_b, m_first, m_count, manifold, p_key, p_point, point, normal, points, separations, ids = contacts
     n_man = 0
@@ -246,6 +247,8 @@ def narrow_phase(pair_keys, x, reach, kind, radius, nverts, world_verts, world_n
     for k in range(pair_keys.shape[0]):
         a = pair_keys[k] >> BODY_BITS
         b = pair_keys[k] & BODY_MASK
+        if not hitboxes_overlap(hitbox, a, b):
+            continue
         within = reach[a] + reach[b] - margin
         # dispatch written out here rather than in a function taking every array: a call passing a
         # dozen arrays per pair cost more than the collision test itself

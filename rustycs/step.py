@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from rustycs.broad_phase import find_pairs, grid_scratch_size
+from rustycs.broad_phase import fatten, find_pairs, grid_scratch_size, pairs_hold
 from rustycs.contact_batches import batch_buffers, schedule
 from rustycs.contact_solver import (
     BODY_COLUMNS,
@@ -48,11 +48,12 @@ SETTINGS_SIZE = 8
 
 # the workspace tuple: world vertices, world normals, hitboxes, reach, grid scratch, extents, cells,
 # pair keys, solver body rows, CONTACTS (the narrow phase's buffers), warm-start keys, normal and
-# tangent impulses, SIZES, the batches' buffers (`contact_batches.batch_buffers`), the solver's lanes
+# tangent impulses, SIZES, the batches' buffers (`contact_batches.batch_buffers`), the solver's lanes,
+# the fat hitboxes and active flags the pairs were found for
 CONTACTS, SIZES = 9, 13
 POINT_ROWS = 7  # the solver rows of the points, in the CONTACTS tuple
-# entries of the SIZES array: last tick's manifolds and points, and warm-start cache entries
-N_MANIFOLDS, N_POINTS, N_CACHE = 0, 1, 2
+# entries of the SIZES array: last tick's manifolds and points, warm-start cache entries, pairs
+N_MANIFOLDS, N_POINTS, N_CACHE, N_PAIRS = 0, 1, 2, 3
 
 
 @njit(cache=True)
@@ -66,13 +67,14 @@ def new_workspace(n, max_vertices, c_key, c_jn, c_jt):
     cache_key[:k] = c_key
     cache_jn[:k] = c_jn
     cache_jt[:k] = c_jt
-    sizes = np.zeros(3, dtype=np.int64)
+    sizes = np.zeros(4, dtype=np.int64)
     sizes[N_CACHE] = k
     batches = batch_buffers(n, capacity)
     return (np.zeros((n, max_vertices, 2)), np.zeros((n, max_vertices, 2)), np.zeros((n, 4)), np.zeros(n),
             np.empty(grid_scratch_size(n), dtype=np.int64), np.empty(n), np.empty(capacity, dtype=np.int64),
             np.empty(capacity, dtype=np.int64), np.empty((n, BODY_COLUMNS)), contact_buffers(capacity),
-            cache_key, cache_jn, cache_jt, sizes, batches, np.empty(capacity * LANE_FIELDS))
+            cache_key, cache_jn, cache_jt, sizes, batches, np.empty(capacity * LANE_FIELDS),
+            np.full((n, 4), np.nan), np.zeros(n, dtype=np.bool_))
 
 
 @tick_kernel
@@ -118,7 +120,7 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
     # contacts against an immovable body are stiffer: only one side gives way
     stiff = softness(2.0 * contact_hertz, DAMPING_RATIO, h)
     (world_verts, world_normals, hitbox, reach, grid, extents, cells, pair_keys, body, contacts,
-     cache_key, cache_jn, cache_jt, sizes, batches, lanes) = workspace
+     cache_key, cache_jn, cache_jt, sizes, batches, lanes, fat_hitbox, fat_active) = workspace
     n_cache = sizes[N_CACHE]
     escaped = 0
     bad = -1
@@ -130,15 +132,21 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
             break
         update_geometry(x, angle, v, kind, radius, nverts, local_verts, local_normals, active,
                         SPECULATIVE_DISTANCE, dt, world_verts, world_normals, hitbox, reach)
-        n_pairs, n_entries = find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, pair_keys)
-        while n_entries > cells.shape[0] or n_pairs > pair_keys.shape[0]:  # rare: the buffers grow
-            cells = np.empty(max(2 * n_entries, cells.shape[0]), dtype=np.int64)
-            pair_keys = np.empty(max(2 * n_pairs, pair_keys.shape[0]), dtype=np.int64)
-            n_pairs, n_entries = find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, pair_keys)
+        if not pairs_hold(hitbox, active, fat_hitbox, fat_active):
+            fatten(hitbox, active, fat_hitbox, fat_active)
+            n_pairs, n_entries = find_pairs(fat_hitbox, inv_mass, active, group, grid, extents, cells,
+                                            pair_keys)
+            while n_entries > cells.shape[0] or n_pairs > pair_keys.shape[0]:  # rare: the buffers grow
+                cells = np.empty(max(2 * n_entries, cells.shape[0]), dtype=np.int64)
+                pair_keys = np.empty(max(2 * n_pairs, pair_keys.shape[0]), dtype=np.int64)
+                n_pairs, n_entries = find_pairs(fat_hitbox, inv_mass, active, group, grid, extents, cells,
+                                                pair_keys)
+            sizes[N_PAIRS] = n_pairs
+        n_pairs = sizes[N_PAIRS]
         if n_pairs > contacts[0].shape[0]:
             contacts = contact_buffers(2 * n_pairs)
             batches = batch_buffers(x.shape[0], 2 * n_pairs)
-        n_man, n_pts = narrow_phase(pair_keys[:n_pairs], x, reach, kind, radius, nverts, world_verts,
+        n_man, n_pts = narrow_phase(pair_keys[:n_pairs], x, hitbox, reach, kind, radius, nverts, world_verts,
                                     world_normals, friction, restitution, SPECULATIVE_DISTANCE, contacts)
         sizes[N_MANIFOLDS] = n_man
         sizes[N_POINTS] = n_pts
@@ -194,7 +202,7 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
                          att_min_distance, point[:, SEPARATION], point[:, NORMAL_IMPULSE])
             recorded += 1
     workspace = (world_verts, world_normals, hitbox, reach, grid, extents, cells, pair_keys, body, contacts,
-                 cache_key, cache_jn, cache_jt, sizes, batches, lanes)
+                 cache_key, cache_jn, cache_jt, sizes, batches, lanes, fat_hitbox, fat_active)
     return bad, done, escaped, recorded, workspace
 
 

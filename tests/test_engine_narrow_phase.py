@@ -47,8 +47,9 @@ def collide_pair(a, b, margin=MARGIN):
             normals[i, :k] = out / np.linalg.norm(out, axis=1)[:, None]
     pair_keys = np.array([(0 << BODY_BITS) | 1], np.int64)
     contacts = contact_buffers(1)
-    n_man, n_pts = narrow_phase(pair_keys, x, np.full(n, margin), kind, radius, nverts, verts, normals,
-                                np.zeros(n), np.zeros(n), margin, contacts)
+    everywhere = np.tile([-np.inf, -np.inf, np.inf, np.inf], (n, 1))  # hitboxes that always overlap
+    n_man, n_pts = narrow_phase(pair_keys, x, everywhere, np.full(n, margin), kind, radius, nverts, verts,
+                                normals, np.zeros(n), np.zeros(n), margin, contacts)
     _, _, _, _, manifold, keys, points, rows = (buffer[:n_pts] if i >= 5 else buffer[:n_man]
                                                 for i, buffer in enumerate(contacts[:8]))
     if n_man == 0:

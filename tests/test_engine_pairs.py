@@ -1,0 +1,74 @@
+"""The broad phase's pairs are found for fat hitboxes and kept while the bodies stay inside them: they
+must always include every pair whose hitboxes overlap, and be found again only when needed."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rustycs import Box, Circle, World
+from rustycs.broad_phase import BODY_BITS
+from rustycs.step import SIZES
+
+HITBOX, FAT_HITBOX = 2, 16  # in the workspace tuple
+
+
+def stored_pairs(world: World) -> set[tuple[int, int]]:
+    workspace = world._workspace
+    keys = workspace[7][: workspace[SIZES][3]]
+    return {(int(k >> BODY_BITS), int(k & ((1 << BODY_BITS) - 1))) for k in keys}
+
+
+def overlapping_pairs(world: World) -> set[tuple[int, int]]:
+    """Every pair of active bodies, one of them dynamic, whose hitboxes overlap (brute force)."""
+    box = world._workspace[HITBOX]
+    active = world.active
+    moving = world.body_types == "dynamic"
+    found = set()
+    for i in range(world.body_count):
+        for j in range(i + 1, world.body_count):
+            if not (active[i] and active[j] and (moving[i] or moving[j])):
+                continue
+            if (box[i, 0] <= box[j, 2] and box[j, 0] <= box[i, 2]
+                    and box[i, 1] <= box[j, 3] and box[j, 1] <= box[i, 3]):
+                found.add((i, j))
+    return found
+
+
+def shaken_heap() -> World:
+    """Circles falling into a box swept by a kinematic paddle, some thrown out of the bounds."""
+    world = World(tick_rate=60, precision=4, bounds=((-6.0, -2.0), (6.0, 20.0)))
+    world.add_force((0.0, -9.81))
+    world.add_body(Box(8.0, 1.0), position=(0.0, -0.5), body_type="static")
+    world.add_body(Box(1.0, 6.0), position=(-4.5, 3.0), body_type="static")
+    world.add_body(Box(1.0, 6.0), position=(4.5, 3.0), body_type="static")
+    world.add_body(Box(2.0, 0.3), position=(-3.0, 0.4), velocity=(2.0, 0.0), body_type="kinematic")
+    for k in range(120):
+        world.add_body(Circle(0.2), position=(-3.5 + 0.45 * (k % 15), 0.5 + 0.45 * (k // 15)),
+                       velocity=(0.0, 25.0) if k >= 112 else (0.0, 0.0))  # the top row's last ones
+    return world
+
+
+def test_kept_pairs_always_include_every_overlapping_pair():
+    world = shaken_heap()
+    for _ in range(40):
+        world.step(3)
+        missing = overlapping_pairs(world) - stored_pairs(world)
+        assert not missing, f"tick {world.tick}: pairs {sorted(missing)[:5]} not in the broad phase"
+    assert not world.active.all()  # bodies left the bounds and were switched off
+
+
+def test_pairs_are_kept_while_a_stack_rests_and_found_again_when_a_body_moves():
+    world = World(tick_rate=60, precision=4)
+    world.add_force((0.0, -9.81))
+    world.add_body(Box(10.0, 1.0), position=(0.0, -0.5), body_type="static")
+    for level in range(4):
+        world.add_body(Box(1.0, 1.0), position=(0.0, 0.5 + level))
+    ball = world.add_body(Circle(0.2), position=(3.0, 5.0))
+    world.step(200)  # the stack rests, the ball lies on the floor
+    fat = world._workspace[FAT_HITBOX].copy()
+    world.step(60)
+    assert np.array_equal(world._workspace[FAT_HITBOX], fat)  # no body left its fat hitbox
+    world.set_velocity(ball, (-6.0, 0.0))  # rolls towards the stack
+    world.step(28)  # it hits the bottom box (and bounces back)
+    assert not np.array_equal(world._workspace[FAT_HITBOX][ball], fat[ball])
+    assert (1, ball) in stored_pairs(world)
