@@ -34,7 +34,7 @@ from rustycs.contact_solver import (
     SEPARATION,
     TANGENT_IMPULSE,
 )
-from rustycs.shapes import CIRCLE
+from rustycs.shapes import CIRCLE, POLYGON
 from rustycs.tick_kernel import tick_kernel
 
 LINEAR_SLOP = 0.005
@@ -135,6 +135,38 @@ def _max_separation(verts, normals, counts, a, b):
     return edge, best
 
 
+@njit(cache=True, inline="always")
+def _box_axes(verts, normals, x, i):
+    """A box's distances from its centre to its faces 0 and 1, which are also those to faces 2 and 3
+    (a box's vertices run from its lower left corner, counter-clockwise, so face k + 2 is opposite
+    face k)."""
+    h0 = normals[i, 0, 0] * (verts[i, 0, 0] - x[i, 0]) + normals[i, 0, 1] * (verts[i, 0, 1] - x[i, 1])
+    h1 = normals[i, 1, 0] * (verts[i, 1, 0] - x[i, 0]) + normals[i, 1, 1] * (verts[i, 1, 1] - x[i, 1])
+    return h0, h1
+
+
+@njit(cache=True, inline="always")
+def _box_max_separation(normals, x, a, ha0, ha1, b, hb0, hb1):
+    """`_max_separation` for two boxes, with a quarter of the projections: the lowest point of box b
+    along a normal n lies |n.e0| hb0 + |n.e1| hb1 below its centre (e0, e1 its face normals, hb0, hb1 its
+    distances to them), and each of a's two axes serves a pair of opposite faces."""
+    dx = x[b, 0] - x[a, 0]
+    dy = x[b, 1] - x[a, 1]
+    best = -math.inf
+    edge = 0
+    for k in range(4):
+        nx = normals[a, k % 2, 0]
+        ny = normals[a, k % 2, 1]
+        reach = (abs(nx * normals[b, 0, 0] + ny * normals[b, 0, 1]) * hb0
+                 + abs(nx * normals[b, 1, 0] + ny * normals[b, 1, 1]) * hb1)
+        centre = nx * dx + ny * dy
+        s = (centre if k < 2 else -centre) - (ha0 if k % 2 == 0 else ha1) - reach
+        if s > best:
+            best = s
+            edge = k
+    return edge, best
+
+
 @njit(cache=True)
 def _clip(px, py, qx, qy, dp, dq, lo, hi):
     """Move p along the segment towards q until its tangent coordinate dp lies in [lo, hi]."""
@@ -148,12 +180,20 @@ def _clip(px, py, qx, qy, dp, dq, lo, hi):
 
 
 @njit(cache=True, inline="always")
-def collide_polygons(verts, normals, counts, a, b, margin, normal, points, separations, ids):
-    """Polygons a and b; the normal points from a to b."""
-    edge_a, sep_a = _max_separation(verts, normals, counts, a, b)
-    if sep_a > margin:
-        return 0
-    edge_b, sep_b = _max_separation(verts, normals, counts, b, a)
+def collide_polygons(verts, normals, counts, x, boxes, a, b, margin, normal, points, separations, ids):
+    """Polygons a and b (with `boxes`, both boxes); the normal points from a to b."""
+    if boxes:
+        ha0, ha1 = _box_axes(verts, normals, x, a)
+        hb0, hb1 = _box_axes(verts, normals, x, b)
+        edge_a, sep_a = _box_max_separation(normals, x, a, ha0, ha1, b, hb0, hb1)
+        if sep_a > margin:
+            return 0
+        edge_b, sep_b = _box_max_separation(normals, x, b, hb0, hb1, a, ha0, ha1)
+    else:
+        edge_a, sep_a = _max_separation(verts, normals, counts, a, b)
+        if sep_a > margin:
+            return 0
+        edge_b, sep_b = _max_separation(verts, normals, counts, b, a)
     if sep_b > margin:
         return 0
     if sep_b > sep_a + REFERENCE_TOLERANCE:
@@ -264,7 +304,8 @@ def narrow_phase(pair_keys, x, hitbox, reach, kind, radius, nverts, world_verts,
             normal[0] = -normal[0]
             normal[1] = -normal[1]
         else:
-            count = collide_polygons(world_verts, world_normals, nverts, a, b, within,
+            boxes = kind[a] != POLYGON and kind[b] != POLYGON
+            count = collide_polygons(world_verts, world_normals, nverts, x, boxes, a, b, within,
                                      normal, points, separations, ids)
         if count == 0:
             continue
