@@ -162,6 +162,9 @@ def prepare(batches, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body
             lanes[o + L_RATE] = rate
             lanes[o + L_MASS_SCALE] = mass_scale
             lanes[o + L_IMPULSE_SCALE] = impulse_scale
+            # no motion yet since the narrow phase (see `solve` for when the poses are gathered)
+            lanes[o + L_DN] = 0.0
+            lanes[o + L_CA], lanes[o + L_SA], lanes[o + L_CB], lanes[o + L_SB] = 1.0, 0.0, 1.0, 0.0
             for k in range(m_count[m]):
                 q = _point(o, k)
                 p = m_first[m] + k
@@ -342,10 +345,13 @@ def _solve_lanes(c, lanes, inv_h, use_bias, points):
 @njit(cache=True, inline="always")
 def solve(batches, n_chunks, lanes, body, inv_h, use_bias):
     """One pass over all contacts; with `use_bias` the soft position bias pushes overlap apart, with
-    each contact's softness (bias rate, mass and impulse scales) for substeps of 1 / inv_h seconds."""
+    each contact's softness (bias rate, mass and impulse scales) for substeps of 1 / inv_h seconds.
+
+    The bodies' poses are gathered by the pass without bias (the relax pass, right after the positions
+    moved) and serve the biased pass of the next substep too: the positions do not move in between."""
     chunk_points = batches[3]
     for c in range(n_chunks):
-        _gather(batches, c, body, lanes, True)
+        _gather(batches, c, body, lanes, not use_bias)
         if chunk_points[c] == 2:
             _solve_lanes(c, lanes, inv_h, use_bias, 2)
         else:
