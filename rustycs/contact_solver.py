@@ -53,13 +53,12 @@ LANES = 8
  L_VAX, L_VAY, L_WA, L_VBX, L_VBY, L_WB, L_DN, L_CA, L_SA, L_CB, L_SB) = (
     np.uint64(f * LANES) for f in range(22))
 CONTACT_FIELDS = 22
-# a point's fields, from its first: anchors, their cross products with the normal and the tangent and
+# a point's fields, from its first: the anchors' cross products with the normal and the tangent and
 # dot products with the normal, the separation less the anchors' projection, effective masses,
 # accumulated and largest normal impulses, the approach speed before solving
-(P_RAX, P_RAY, P_RBX, P_RBY, P_RNA, P_RNB, P_RTA, P_RTB, P_RDA, P_RDB, P_SEPARATION, P_NORMAL_MASS,
- P_TANGENT_MASS, P_NORMAL_IMPULSE, P_TANGENT_IMPULSE, P_MAX_NORMAL_IMPULSE,
- P_RELATIVE_VELOCITY) = (np.uint64(f * LANES) for f in range(17))
-POINT_FIELDS = 17
+(P_RNA, P_RNB, P_RTA, P_RTB, P_RDA, P_RDB, P_SEPARATION, P_NORMAL_MASS, P_TANGENT_MASS, P_NORMAL_IMPULSE,
+ P_TANGENT_IMPULSE, P_MAX_NORMAL_IMPULSE, P_RELATIVE_VELOCITY) = (np.uint64(f * LANES) for f in range(13))
+POINT_FIELDS = 13
 LANE_FIELDS = CONTACT_FIELDS + 2 * POINT_FIELDS
 _CHUNK = np.uint64(LANE_FIELDS * LANES)
 _FIRST_POINT = np.uint64(CONTACT_FIELDS * LANES)
@@ -96,11 +95,17 @@ def _zero(lanes, start, fields):
 
 
 @njit(cache=True, inline="always")
-def _relative_velocity(body, a, b, rax, ray, rbx, rby):
-    """Velocity of b's contact point relative to a's (anchors fixed at the narrow phase)."""
-    dvx = (body[b, VX] - body[b, W] * rby) - (body[a, VX] - body[a, W] * ray)
-    dvy = (body[b, VY] + body[b, W] * rbx) - (body[a, VY] + body[a, W] * rax)
-    return dvx, dvy
+def _approach(vax, vay, wa, vbx, vby, wb, nx, ny, rna, rnb):
+    """Speed of b's contact point relative to a's along the normal (n), or along the tangent when given
+    the tangent and the anchors' cross products with it: (vb + wb x rb - va - wa x ra) . n."""
+    return (vbx - vax) * nx + (vby - vay) * ny + (wb * rnb - wa * rna)
+
+
+@njit(cache=True, inline="always")
+def _bodies_approach(body, a, b, nx, ny, rna, rnb):
+    """`_approach` with the velocities in the body rows."""
+    return _approach(body[a, VX], body[a, VY], body[a, W], body[b, VX], body[b, VY], body[b, W], nx, ny, rna,
+                     rnb)
 
 
 @tick_kernel
@@ -169,10 +174,6 @@ def prepare(batches, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body
                 q = _point(o, k)
                 p = m_first[m] + k
                 rax, ray, rbx, rby = point[p, RAX], point[p, RAY], point[p, RBX], point[p, RBY]
-                lanes[q + P_RAX] = rax
-                lanes[q + P_RAY] = ray
-                lanes[q + P_RBX] = rbx
-                lanes[q + P_RBY] = rby
                 rna = rax * ny - ray * nx
                 rnb = rbx * ny - rby * nx
                 rta = rax * ty - ray * tx
@@ -190,8 +191,7 @@ def prepare(batches, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body
                 lanes[q + P_NORMAL_MASS] = 1.0 / kn if kn > 0.0 else 0.0
                 lanes[q + P_TANGENT_MASS] = 1.0 / kt if kt > 0.0 else 0.0
                 lanes[q + P_SEPARATION] = point[p, SEPARATION] - (rdb - rda)
-                dvx, dvy = _relative_velocity(body, a, b, rax, ray, rbx, rby)
-                lanes[q + P_RELATIVE_VELOCITY] = dvx * nx + dvy * ny
+                lanes[q + P_RELATIVE_VELOCITY] = _bodies_approach(body, a, b, nx, ny, rna, rnb)
                 lanes[q + P_NORMAL_IMPULSE] = point[p, NORMAL_IMPULSE]
                 lanes[q + P_TANGENT_IMPULSE] = point[p, TANGENT_IMPULSE]
                 lanes[q + P_MAX_NORMAL_IMPULSE] = 0.0
@@ -261,10 +261,10 @@ def _warm_start_lanes(c, lanes, points):
             py = jn * ny - jt * nx
             vax -= ma * px
             vay -= ma * py
-            wa -= ia * (lanes[q + P_RAX] * py - lanes[q + P_RAY] * px)
+            wa -= ia * (jn * lanes[q + P_RNA] + jt * lanes[q + P_RTA])
             vbx += mb * px
             vby += mb * py
-            wb += ib * (lanes[q + P_RBX] * py - lanes[q + P_RBY] * px)
+            wb += ib * (jn * lanes[q + P_RNB] + jt * lanes[q + P_RTB])
         lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA] = vax, vay, wa
         lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB] = vbx, vby, wb
 
@@ -309,7 +309,7 @@ def _solve_lanes(c, lanes, inv_h, use_bias, points):
                 bias = max(rate * s, -MAX_PUSH_SPEED)
                 mass_scale = mscale
                 impulse_scale = iscale
-            vn = (vbx - vax) * nx + (vby - vay) * ny + (wb * rnb - wa * rna)
+            vn = _approach(vax, vay, wa, vbx, vby, wb, nx, ny, rna, rnb)
             old = lanes[q + P_NORMAL_IMPULSE]
             total = max(old - lanes[q + P_NORMAL_MASS] * mass_scale * (vn + bias) - impulse_scale * old, 0.0)
             impulse = total - old
@@ -326,7 +326,7 @@ def _solve_lanes(c, lanes, inv_h, use_bias, points):
         for k in range(points):
             q = _point(o, k)
             rta, rtb = lanes[q + P_RTA], lanes[q + P_RTB]
-            vt = (vbx - vax) * tx + (vby - vay) * ty + (wb * rtb - wa * rta)
+            vt = _approach(vax, vay, wa, vbx, vby, wb, tx, ty, rta, rtb)
             limit = mu * lanes[q + P_NORMAL_IMPULSE]
             old = lanes[q + P_TANGENT_IMPULSE]
             total = min(max(old - lanes[q + P_TANGENT_MASS] * vt, -limit), limit)
@@ -379,19 +379,16 @@ def restitute(batches, n_chunks, lanes, body, threshold):
                 approach = lanes[q + P_RELATIVE_VELOCITY]
                 if approach > -threshold or lanes[q + P_MAX_NORMAL_IMPULSE] == 0.0:
                     continue
-                rax, ray, rbx, rby = lanes[q + P_RAX], lanes[q + P_RAY], lanes[q + P_RBX], lanes[q + P_RBY]
-                dvx, dvy = _relative_velocity(body, a, b, rax, ray, rbx, rby)
-                vn = dvx * nx + dvy * ny
+                rna, rnb = lanes[q + P_RNA], lanes[q + P_RNB]
+                vn = _bodies_approach(body, a, b, nx, ny, rna, rnb)
                 old = lanes[q + P_NORMAL_IMPULSE]
                 total = max(old - lanes[q + P_NORMAL_MASS] * (vn + e * approach), 0.0)
                 impulse = total - old
                 lanes[q + P_NORMAL_IMPULSE] = total
                 lanes[q + P_MAX_NORMAL_IMPULSE] = max(lanes[q + P_MAX_NORMAL_IMPULSE], impulse)
-                px = impulse * nx
-                py = impulse * ny
-                body[a, VX] -= ma * px
-                body[a, VY] -= ma * py
-                body[a, W] -= ia * (rax * py - ray * px)
-                body[b, VX] += mb * px
-                body[b, VY] += mb * py
-                body[b, W] += ib * (rbx * py - rby * px)
+                body[a, VX] -= ma * nx * impulse
+                body[a, VY] -= ma * ny * impulse
+                body[a, W] -= ia * rna * impulse
+                body[b, VX] += mb * nx * impulse
+                body[b, VY] += mb * ny * impulse
+                body[b, W] += ib * rnb * impulse
