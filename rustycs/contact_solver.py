@@ -138,11 +138,13 @@ def store_bodies(body, v, w, body_type):
 @tick_kernel
 def prepare(batches, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body, soft, stiff, lanes):
     """Fill the lanes of the scheduled contacts: inverse masses, normal, friction, restitution, softness,
-    and per point the anchors, their products with the normal and the tangent, the effective masses,
-    the approach speed (for restitution) and the warm-start impulses. An empty lane, or a manifold's
+    and per point the anchors' products with the normal and the tangent, the effective masses, the
+    approach speed (for restitution) and the warm-start impulses. An empty lane, or a manifold's
     missing second point, is all zeros: it solves to no impulse. Contacts against an immovable body
-    get the stiffer softness: only one side gives way."""
+    get the stiffer softness: only one side gives way. Returns the number of contacts that may bounce
+    (restitution above 0)."""
     _, _, fill, _, slot_manifold, _, _ = batches
+    bouncy = 0
     for c in range(n_chunks):
         for j in range(fill[c], LANES):
             _zero(lanes, _lane(c, j), LANE_FIELDS)
@@ -163,6 +165,7 @@ def prepare(batches, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body
             lanes[o + L_NY] = ny
             lanes[o + L_MU] = manifold[m, FRICTION]
             lanes[o + L_E] = manifold[m, RESTITUTION]
+            bouncy += manifold[m, RESTITUTION] != 0.0
             rate, mass_scale, impulse_scale = stiff if ma == 0.0 or mb == 0.0 else soft
             lanes[o + L_RATE] = rate
             lanes[o + L_MASS_SCALE] = mass_scale
@@ -197,6 +200,7 @@ def prepare(batches, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body
                 lanes[q + P_MAX_NORMAL_IMPULSE] = 0.0
             if m_count[m] == 1:
                 _zero(lanes, _point(o, 1), POINT_FIELDS)
+    return bouncy
 
 
 @tick_kernel

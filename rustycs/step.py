@@ -79,10 +79,10 @@ def new_workspace(n, max_vertices, c_key, c_jn, c_jt):
 
 @tick_kernel
 def substeps_and_restitution(batches, n_chunks, lanes, body, x, angle, body_type, active, gravity, att_pos,
-                             att_gm, att_range, att_min_distance, h, substeps, threshold):
+                             att_gm, att_range, att_min_distance, h, substeps, threshold, bouncy):
     """The solver's substeps: integrate velocities, warm start, solve with the soft bias, integrate
-    positions, relax; then restitution. One compiled call with every pass inlined: a call per pass
-    cost a quarter of the tick of a five-body scene."""
+    positions, relax; then restitution, when `bouncy` contacts have any. One compiled call with every
+    pass inlined: a call per pass cost a quarter of the tick of a five-body scene."""
     for _ in range(substeps):
         integrate_velocities(body, x, body_type, active, gravity, att_pos, att_gm, att_range,
                              att_min_distance, h)
@@ -92,7 +92,7 @@ def substeps_and_restitution(batches, n_chunks, lanes, body, x, angle, body_type
         solve(batches, n_chunks, lanes, body, 1.0 / h, False)
     # a single pass would favour the first point of a two-point manifold (a flat box would bounce
     # unevenly and spin); repeated passes converge to -e times the approach speed at both
-    for _ in range(substeps):
+    for _ in range(substeps if bouncy > 0 else 0):
         restitute(batches, n_chunks, lanes, body, threshold)
 
 
@@ -172,9 +172,10 @@ def step_world(n_ticks, x, angle, v, w, inv_mass, inv_inertia, body_type, kind, 
         n_chunks = schedule(m_a, m_b, m_count, body, batches)
         if n_chunks * LANES * LANE_FIELDS > lanes.shape[0]:  # rare: the contacts need more lanes
             lanes = np.empty(2 * n_chunks * LANES * LANE_FIELDS)
-        prepare(batches, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body, soft, stiff, lanes)
+        bouncy = prepare(batches, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body, soft, stiff,
+                         lanes)
         substeps_and_restitution(batches, n_chunks, lanes, body, x, angle, body_type, active, gravity,
-                                 att_pos, att_gm, att_range, att_min_distance, h, substeps, threshold)
+                                 att_pos, att_gm, att_range, att_min_distance, h, substeps, threshold, bouncy)
         store_impulses(batches, n_chunks, m_first, m_count, lanes, point)
         store_bodies(body, v, w, body_type)
 
