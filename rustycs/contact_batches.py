@@ -26,11 +26,15 @@ from rustycs.tick_kernel import tick_kernel
 def batch_buffers(n_bodies, manifolds):
     """Buffers of `schedule` for n bodies and up to `manifolds` manifolds (as many chunks at most):
     each body's first possible chunk; per chunk the next one with a free lane, the lanes filled and the
-    largest point count; per slot (lane) its manifold and bodies."""
+    largest point count; per slot (lane) its manifold and bodies; the manifolds scheduled last (bodies,
+    point counts) and their number and chunk count (none yet)."""
     slots = manifolds * LANES
+    last = np.zeros(2, np.int64)
+    last[0] = -1
     return (np.zeros(n_bodies, np.int64), np.zeros(manifolds + 1, np.int64), np.zeros(manifolds, np.int64),
             np.zeros(manifolds, np.int64), np.zeros(slots, np.int64), np.zeros(slots, np.int64),
-            np.zeros(slots, np.int64))
+            np.zeros(slots, np.int64), np.zeros(manifolds, np.int64), np.zeros(manifolds, np.int64),
+            np.zeros(manifolds, np.int64), last)
 
 
 @njit(cache=True, inline="always")
@@ -40,8 +44,21 @@ def _movable(body, i):
 
 @tick_kernel
 def schedule(m_a, m_b, m_count, body, batches):
-    """Place the manifolds (sorted by body ids) in chunks of lane slots; returns the chunk count."""
-    first_chunk, next_open, fill, chunk_points, slot_manifold, slot_a, slot_b = batches
+    """Place the manifolds (sorted by body ids) in chunks of lane slots; returns the chunk count.
+
+    The manifolds of a resting scene are those of the tick before (same bodies, same point counts):
+    then the slots are as they were."""
+    (first_chunk, next_open, fill, chunk_points, slot_manifold, slot_a, slot_b, last_a, last_b, last_count,
+     last) = batches
+    n_man = m_a.shape[0]
+    if n_man == last[0]:
+        same = True
+        for m in range(n_man):
+            if m_a[m] != last_a[m] or m_b[m] != last_b[m] or m_count[m] != last_count[m]:
+                same = False
+                break
+        if same:
+            return last[1]
     for i in range(first_chunk.shape[0]):
         first_chunk[i] = 0
     n_chunks = 0
@@ -70,4 +87,9 @@ def schedule(m_a, m_b, m_count, body, batches):
             first_chunk[a] = k + 1
         if _movable(body, b):
             first_chunk[b] = k + 1
+        last_a[m] = a
+        last_b[m] = b
+        last_count[m] = m_count[m]
+    last[0] = n_man
+    last[1] = n_chunks
     return n_chunks

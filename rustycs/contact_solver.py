@@ -49,6 +49,9 @@ MANIFOLD_COLUMNS = 4
 # then what each pass gathers from the bodies (velocities, the approach of the centres along the
 # normal and the rotations since the narrow phase).
 LANES = 8
+# entries of the batches tuple (`contact_batches.batch_buffers`) the passes read: per chunk the lanes
+# filled and the largest point count, per slot its manifold and bodies
+FILL, CHUNK_POINTS, SLOT_MANIFOLD, SLOT_A, SLOT_B = 2, 3, 4, 5, 6
 (L_MA, L_IA, L_MB, L_IB, L_NX, L_NY, L_MU, L_E, L_RATE, L_MASS_SCALE, L_IMPULSE_SCALE,
  L_VAX, L_VAY, L_WA, L_VBX, L_VBY, L_WB, L_DN, L_CA, L_SA, L_CB, L_SB) = (
     np.uint64(f * LANES) for f in range(22))
@@ -143,7 +146,7 @@ def prepare(batches, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body
     missing second point, is all zeros: it solves to no impulse. Contacts against an immovable body
     get the stiffer softness: only one side gives way. Returns the number of contacts that may bounce
     (restitution above 0)."""
-    _, _, fill, _, slot_manifold, _, _ = batches
+    fill, slot_manifold = batches[FILL], batches[SLOT_MANIFOLD]
     bouncy = 0
     for c in range(n_chunks):
         for j in range(fill[c], LANES):
@@ -206,7 +209,7 @@ def prepare(batches, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body
 @tick_kernel
 def store_impulses(batches, n_chunks, m_first, m_count, lanes, point):
     """Copy the accumulated impulses back to the point rows (the next tick's warm start)."""
-    _, _, fill, _, slot_manifold, _, _ = batches
+    fill, slot_manifold = batches[FILL], batches[SLOT_MANIFOLD]
     for c in range(n_chunks):
         for j in range(fill[c]):
             m = slot_manifold[c * LANES + j]
@@ -220,7 +223,7 @@ def store_impulses(batches, n_chunks, m_first, m_count, lanes, point):
 def _gather(batches, c, body, lanes, poses):
     """Load the velocities of a chunk's bodies into its lanes; with `poses`, also the approach of the
     centres along the normal and the rotations since the narrow phase. Empty lanes keep their zeros."""
-    _, _, fill, _, _, slot_a, slot_b = batches
+    fill, slot_a, slot_b = batches[FILL], batches[SLOT_A], batches[SLOT_B]
     for j in range(fill[c]):
         o = _lane(c, j)
         a = slot_a[c * LANES + j]
@@ -238,7 +241,7 @@ def _gather(batches, c, body, lanes, poses):
 def _scatter(batches, c, lanes, body):
     """Write a chunk's velocities back to its bodies, except immovable ones: the lanes of a chunk may
     share those, and they are never written, so that no contact waits for another through them."""
-    _, _, fill, _, _, slot_a, slot_b = batches
+    fill, slot_a, slot_b = batches[FILL], batches[SLOT_A], batches[SLOT_B]
     for j in range(fill[c]):
         o = _lane(c, j)
         a = slot_a[c * LANES + j]
@@ -276,7 +279,7 @@ def _warm_start_lanes(c, lanes, points):
 @njit(cache=True, inline="always")
 def warm_start(batches, n_chunks, lanes, body):
     """Apply the accumulated impulses again at the start of a substep."""
-    chunk_points = batches[3]
+    chunk_points = batches[CHUNK_POINTS]
     for c in range(n_chunks):
         _gather(batches, c, body, lanes, False)
         if chunk_points[c] == 2:  # a compile-time point count: the lane loop has no inner loop left
@@ -353,7 +356,7 @@ def solve(batches, n_chunks, lanes, body, inv_h, use_bias):
 
     The bodies' poses are gathered by the pass without bias (the relax pass, right after the positions
     moved) and serve the biased pass of the next substep too: the positions do not move in between."""
-    chunk_points = batches[3]
+    chunk_points = batches[CHUNK_POINTS]
     for c in range(n_chunks):
         _gather(batches, c, body, lanes, not use_bias)
         if chunk_points[c] == 2:
@@ -367,7 +370,7 @@ def solve(batches, n_chunks, lanes, body, inv_h, use_bias):
 def restitute(batches, n_chunks, lanes, body, threshold):
     """Bounce: set the normal speed to -e times the approach speed measured before solving. Few
     contacts bounce, so this pass works lane by lane on the body rows."""
-    _, _, fill, _, _, slot_a, slot_b = batches
+    fill, slot_a, slot_b = batches[FILL], batches[SLOT_A], batches[SLOT_B]
     for c in range(n_chunks):
         for j in range(fill[c]):
             o = _lane(c, j)
