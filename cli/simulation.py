@@ -102,8 +102,12 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
             frames = world.frame_buffer(per_call)
 
             def record(count: int) -> None:
+                if not contacts:  # whole blocks of frames
+                    writer.append_block(frames, count)
+                    tracker.add_block(frames, count)
+                    return
                 for row in range(count):
-                    frame = Frame.from_buffer(frames, row, world.contacts() if contacts else None)
+                    frame = Frame.from_buffer(frames, row, world.contacts())
                     writer.append(frame)
                     tracker.add(frame)
 

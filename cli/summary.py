@@ -15,9 +15,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
+    import numpy as np
     from rich.table import Table
     from rustycs_cli.trajectory import Frame
 
+_EXTREMES = ("max_penetration", "contact_count", "max_speed")  # per-frame observables summed up or maxed
 REST_SPEED = 1e-3  # m/s: a dynamic body slower than this (and REST_ANGULAR_SPEED) is at rest
 REST_ANGULAR_SPEED = 1e-3  # rad/s
 
@@ -70,17 +72,27 @@ class SummaryTracker:
 
     def add(self, frame: Frame) -> None:
         """Account for one recorded frame."""
+        import numpy as np
 
+        self._account(frame, frame, 1, {name: np.asarray([frame.observables[name]]) for name in _EXTREMES})
+
+    def add_block(self, frames: dict[str, np.ndarray], count: int) -> None:
+        """Account for the first `count` rows of a frame buffer filled by `World.step(record=...)`."""
+        from rustycs_cli.trajectory import Frame
+
+        if count:
+            self._account(Frame.from_buffer(frames, 0, None), Frame.from_buffer(frames, count - 1, None),
+                          count, {name: frames[name][:count] for name in _EXTREMES})
+
+    def _account(self, first: Frame, last: Frame, count: int, observed: dict[str, np.ndarray]) -> None:
         if self.first is None:
-            self.first = frame
-        self.last = frame
-        self.frames += 1
-        observables = frame.observables
-        self.max_penetration = max(self.max_penetration, float(observables["max_penetration"]))
-        count = int(observables["contact_count"])
-        self.total_contacts += count
-        self.peak_contacts = max(self.peak_contacts, count)
-        self.max_speed = max(self.max_speed, float(observables["max_speed"]))
+            self.first = first
+        self.last = last
+        self.frames += count
+        self.max_penetration = max(self.max_penetration, float(observed["max_penetration"].max()))
+        self.total_contacts += int(observed["contact_count"].sum())
+        self.peak_contacts = max(self.peak_contacts, int(observed["contact_count"].max()))
+        self.max_speed = max(self.max_speed, float(observed["max_speed"].max()))
 
     def summary(self, *, scene: str, scene_sha256: str, status: str, seed: int, dt: float,
                 wall_seconds: float, step_seconds: float, divergence: str | None = None) -> dict[str, Any]:

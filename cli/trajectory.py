@@ -165,7 +165,8 @@ class Frame:
             angle=frames["angle"][row].copy(),
             angular_velocity=frames["angular_velocity"][row].copy(),
             active=frames["active"][row].copy(),
-            observables={name: frames[name][row] for name in (*OBSERVABLES, "max_speed")},
+            # copies: the buffer's rows are overwritten by the next block (the momentum is a view)
+            observables={name: frames[name][row].copy() for name in (*OBSERVABLES, "max_speed")},
             contacts=contacts,
         )
 
@@ -369,6 +370,21 @@ class TrajectoryWriter:
             self._offset.append(self._contact_rows)
         self.frames += 1
         if self.frames % BLOCK_FRAMES == 0:
+            self._flush()
+
+    def append_block(self, frames: dict[str, np.ndarray], count: int) -> None:
+        """Record the first `count` rows of a frame buffer filled by `World.step(record=...)`, as whole
+        arrays with no Python per frame (a trajectory without contacts)."""
+        if self._contacts is not None:
+            raise ValueError("this trajectory records contacts: append frames one by one, with them")
+        ticks = frames["tick"][:count]
+        self._step.extend(ticks)
+        self._time.extend(ticks * self.dt)
+        for name, series in (*self._series.items(), *self._observables.items()):
+            series.extend(frames[name][:count])
+        before = self.frames
+        self.frames += count
+        if self.frames // BLOCK_FRAMES > before // BLOCK_FRAMES:
             self._flush()
 
     def _flush(self) -> None:

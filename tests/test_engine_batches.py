@@ -32,17 +32,19 @@ def stack(height: int) -> World:
 
 
 def heap() -> World:
-    """Circles heaped in a box with a kinematic paddle: one-point manifolds, shared immovable bodies."""
+    """Circles heaped in a box swept by a kinematic paddle (one-point manifolds, shared immovable
+    bodies), the top row's last ones thrown up out of the bounds."""
     rng = np.random.default_rng(7)
-    world = World(tick_rate=60, precision=4)
+    world = World(tick_rate=60, precision=4, bounds=((-6.0, -2.0), (6.0, 20.0)))
     world.add_force((0.0, -9.81))
     world.add_body(Box(8.0, 1.0), position=(0.0, -0.5), body_type="static")
     world.add_body(Box(1.0, 8.0), position=(-4.5, 4.0), body_type="static")
     world.add_body(Box(1.0, 8.0), position=(4.5, 4.0), body_type="static")
-    world.add_body(Box(2.0, 0.3), position=(-3.0, 0.4), velocity=(1.0, 0.0), body_type="kinematic")
+    world.add_body(Box(2.0, 0.3), position=(-3.0, 0.4), velocity=(2.0, 0.0), body_type="kinematic")
     for k in range(200):
         x = -3.6 + 0.4 * (k % 18) + rng.uniform(-0.02, 0.02)
-        world.add_body(Circle(0.2), position=(x, 0.3 + 0.4 * (k // 18)))
+        world.add_body(Circle(0.2), position=(x, 0.3 + 0.4 * (k // 18)),
+                       velocity=(0.0, 25.0) if k >= 192 else (0.0, 0.0))
     return world
 
 

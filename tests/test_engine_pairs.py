@@ -4,6 +4,7 @@ must always include every pair whose hitboxes overlap, and be found again only w
 from __future__ import annotations
 
 import numpy as np
+from test_engine_batches import heap
 
 from rustycs import Box, Circle, World
 from rustycs.broad_phase import BODY_BITS
@@ -34,22 +35,8 @@ def overlapping_pairs(world: World) -> set[tuple[int, int]]:
     return found
 
 
-def shaken_heap() -> World:
-    """Circles falling into a box swept by a kinematic paddle, some thrown out of the bounds."""
-    world = World(tick_rate=60, precision=4, bounds=((-6.0, -2.0), (6.0, 20.0)))
-    world.add_force((0.0, -9.81))
-    world.add_body(Box(8.0, 1.0), position=(0.0, -0.5), body_type="static")
-    world.add_body(Box(1.0, 6.0), position=(-4.5, 3.0), body_type="static")
-    world.add_body(Box(1.0, 6.0), position=(4.5, 3.0), body_type="static")
-    world.add_body(Box(2.0, 0.3), position=(-3.0, 0.4), velocity=(2.0, 0.0), body_type="kinematic")
-    for k in range(120):
-        world.add_body(Circle(0.2), position=(-3.5 + 0.45 * (k % 15), 0.5 + 0.45 * (k // 15)),
-                       velocity=(0.0, 25.0) if k >= 112 else (0.0, 0.0))  # the top row's last ones
-    return world
-
-
 def test_kept_pairs_always_include_every_overlapping_pair():
-    world = shaken_heap()
+    world = heap()
     for _ in range(40):
         world.step(3)
         missing = overlapping_pairs(world) - stored_pairs(world)

@@ -300,3 +300,35 @@ def test_open_trajectory_rejects(bad_files: dict[str, Path], kind: str, words: s
     (message,) = caught.value.messages
     assert message.startswith(f"{bad_files[kind]}: ") and words in message
     assert caught.value.exit_code == 2
+
+
+def test_blocks_of_frames_are_written_and_summarised_as_frames_one_by_one(tmp_path: Path):
+    """`rustycs run` hands the writer and the summary whole blocks of the engine's frame buffer."""
+    frames = 150  # blocks of uneven sizes, across BLOCK_FRAMES boundaries
+    one_by_one, summary = write_run(tmp_path / "frames.h5", contacts=False, frames=frames)
+    world = make_world()
+    tracker = SummaryTracker(list(world.body_types))
+    with TrajectoryWriter(tmp_path / "blocks.h5", world, names=NAMES, materials=MATERIALS,
+                          collision_groups=GROUPS, attractor_names=["well", "far"], author="tester",
+                          scene_text="name: t\n", contacts=False, compress=False,
+                          overrides=("world.precision=6", "bodies.ball.material=rubber")) as writer:
+        buffer = world.frame_buffer(64)
+        world.capture(buffer)
+        writer.append_block(buffer, 1)
+        tracker.add_block(buffer, 1)
+        for count in (37, 64, 48):
+            recorded = world.step(count, record=buffer, every=1)
+            writer.append_block(buffer, recorded)
+            tracker.add_block(buffer, recorded)
+        blocks = tracker.summary(scene="t", scene_sha256="0" * 64, status="complete", seed=0, dt=world.dt,
+                                 wall_seconds=1.0, step_seconds=0.5)
+        writer.finish({"status": "complete"}, blocks)
+    assert blocks == summary
+    with h5py.File(tmp_path / "frames.h5") as a, h5py.File(tmp_path / "blocks.h5") as b:
+        names = []
+        a.visititems(lambda name, item: names.append(name) if isinstance(item, h5py.Dataset) else None)
+        series = [name for name in names if name.startswith(("particles/", "observables/"))]
+        assert len(series) > 20
+        for name in series:
+            assert np.array_equal(a[name][()], b[name][()]), name
+        assert a["particles/bodies/position/value"].shape[0] == frames == len(one_by_one)
