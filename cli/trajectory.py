@@ -129,6 +129,7 @@ CONTACT_FIELDS = {  # name: (row shape, dtype, unit); [C, *shape]
     "normal_impulse": ((), "f8", "N s"),
 }
 BLOCK_FRAMES = 64  # frames held in memory before they are appended to the file
+FLUSH_FRAMES = 4 * BLOCK_FRAMES  # the same when whole blocks are appended (`append_block`)
 CHUNK_FRAMES = BLOCK_FRAMES  # frames per chunk (a block fills whole chunks), fewer when a frame is large
 CHUNK_BYTES = 1 << 20  # so that a chunk fits h5py's default chunk cache
 CONTACT_CHUNK_ROWS = 4096
@@ -232,16 +233,19 @@ class _Growing:
         bigger[:self.used] = self.buffer[:self.used]
         self.buffer = bigger
 
-    def flush(self) -> None:
+    def flush(self, rows: int | None = None) -> None:
+        """Append the first `rows` buffered rows (all by default) to the dataset; the rest stay."""
         import numpy as np
 
-        if not self.used:
+        rows = self.used if rows is None else rows
+        if not rows:
             return
         start = self.dataset.shape[0]
-        self.dataset.resize(start + self.used, axis=0)
+        self.dataset.resize(start + rows, axis=0)
         # write_direct: the buffer goes to HDF5 as it is, without h5py's slicing machinery
-        self.dataset.write_direct(self.buffer, source_sel=np.s_[:self.used], dest_sel=np.s_[start:])
-        self.used = 0
+        self.dataset.write_direct(self.buffer, source_sel=np.s_[:rows], dest_sel=np.s_[start:])
+        self.buffer[:self.used - rows] = self.buffer[rows:self.used]
+        self.used -= rows
 
 
 def _chunk_frames(frame_bytes: int) -> int:
@@ -382,10 +386,14 @@ class TrajectoryWriter:
         self._time.extend(ticks * self.dt)
         for name, series in (*self._series.items(), *self._observables.items()):
             series.extend(frames[name][:count])
-        before = self.frames
         self.frames += count
-        if self.frames // BLOCK_FRAMES > before // BLOCK_FRAMES:
-            self._flush()
+        # whole multiples of FLUSH_FRAMES only, so that each write fills whole chunks (a run's first frame
+        # comes alone) and HDF5 is called a few times per 256 frames
+        written = self._step.dataset.shape[0]
+        whole = self.frames // FLUSH_FRAMES * FLUSH_FRAMES - written
+        if whole > 0:
+            for series in self._all_series():
+                series.flush(whole)
 
     def _flush(self) -> None:
         # no HDF5 flush per block: the file is a temporary until `finish` closes and renames it, so a
