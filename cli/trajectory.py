@@ -210,6 +210,8 @@ class _Growing:
             self.dataset.attrs["unit"] = unit
         self.buffer = np.empty((BLOCK_FRAMES, *row_shape), dtype)
         self.used = 0
+        # whole chunks of a dataset without filters can be written as they are (`flush`)
+        self.raw_chunks = not options and 0 not in row_shape
 
     def append(self, row: Any) -> None:
         """Buffer one row."""
@@ -242,8 +244,15 @@ class _Growing:
             return
         start = self.dataset.shape[0]
         self.dataset.resize(start + rows, axis=0)
-        # write_direct: the buffer goes to HDF5 as it is, without h5py's slicing machinery
-        self.dataset.write_direct(self.buffer, source_sel=np.s_[:rows], dest_sel=np.s_[start:])
+        chunk = self.dataset.chunks[0]
+        if self.raw_chunks and start % chunk == 0 and rows % chunk == 0:
+            # whole chunks go to the file as they are, past HDF5's chunk cache and selections
+            inner = (0,) * (self.buffer.ndim - 1)
+            for first in range(0, rows, chunk):
+                self.dataset.id.write_direct_chunk((start + first, *inner), self.buffer[first:first + chunk])
+        else:
+            # write_direct: the buffer goes to HDF5 as it is, without h5py's slicing machinery
+            self.dataset.write_direct(self.buffer, source_sel=np.s_[:rows], dest_sel=np.s_[start:])
         self.buffer[:self.used - rows] = self.buffer[rows:self.used]
         self.used -= rows
 

@@ -304,7 +304,7 @@ def test_open_trajectory_rejects(bad_files: dict[str, Path], kind: str, words: s
 
 def test_blocks_of_frames_are_written_and_summarised_as_frames_one_by_one(tmp_path: Path):
     """`rustycs run` hands the writer and the summary whole blocks of the engine's frame buffer."""
-    frames = 150  # blocks of uneven sizes, across BLOCK_FRAMES boundaries
+    frames = 300  # blocks of uneven sizes; whole chunks written as they are, then the rest
     one_by_one, summary = write_run(tmp_path / "frames.h5", contacts=False, frames=frames)
     world = make_world()
     tracker = SummaryTracker(list(world.body_types))
@@ -316,7 +316,7 @@ def test_blocks_of_frames_are_written_and_summarised_as_frames_one_by_one(tmp_pa
         world.capture(buffer)
         writer.append_block(buffer, 1)
         tracker.add_block(buffer, 1)
-        for count in (37, 64, 48):
+        for count in (37, 64, 64, 64, 64, 6):
             recorded = world.step(count, record=buffer, every=1)
             writer.append_block(buffer, recorded)
             tracker.add_block(buffer, recorded)
