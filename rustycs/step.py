@@ -50,7 +50,7 @@ SETTINGS_SIZE = 8
 # pair keys, solver body rows, CONTACTS (the narrow phase's buffers), warm-start keys, normal and
 # tangent impulses, SIZES, the batches' buffers (`contact_batches.batch_buffers`), the solver's lanes,
 # the fat hitboxes and active flags the pairs were found for
-CONTACTS, SIZES = 9, 13
+HITBOXES, PAIR_KEYS, BODY_ROWS, CONTACTS, SIZES, BATCHES, FAT_HITBOXES = 2, 7, 8, 9, 13, 14, 16
 POINT_ROWS = 7  # the solver rows of the points, in the CONTACTS tuple
 # entries of the SIZES array: last tick's manifolds and points, warm-start cache entries, pairs
 N_MANIFOLDS, N_POINTS, N_CACHE, N_PAIRS = 0, 1, 2, 3

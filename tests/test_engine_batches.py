@@ -9,7 +9,7 @@ import pytest
 from rustycs import Box, Circle, World
 from rustycs.contact_batches import schedule
 from rustycs.contact_solver import INV_INERTIA, INV_MASS, LANES
-from rustycs.step import CONTACTS, SIZES
+from rustycs.step import BATCHES, BODY_ROWS, CONTACTS, SIZES
 
 
 def pyramid(rows: int) -> World:
@@ -54,7 +54,7 @@ def batches_of(world: World):
     workspace = world._workspace
     n_man = workspace[SIZES][0]
     m_a, m_b, _, m_count = (array[:n_man] for array in workspace[CONTACTS][:4])
-    body, batches = workspace[8], workspace[14]
+    body, batches = workspace[BODY_ROWS], workspace[BATCHES]
     n_chunks = schedule(m_a, m_b, m_count, body, batches)
     fill, chunk_points = (array[:n_chunks] for array in batches[2:4])
     # the slots in use: the first `fill` lanes of each chunk
