@@ -191,7 +191,7 @@ def _collinear_problem(p: np.ndarray) -> PolygonProblem | None:
 
 
 def _area_problem(p: np.ndarray) -> PolygonProblem | None:
-    area = polygon_mass(p)[0]
+    area = 0.5 * abs(float(np.sum(_shoelace(p)[2])))
     if area >= _MIN_AREA:
         return None
     return PolygonProblem(f"the polygon's area {area:.3g} m^2 is too small: it is degenerate", None)
@@ -223,25 +223,31 @@ def polygon_problem(vertices) -> PolygonProblem | None:
 # Mass
 
 
+def _shoelace(p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each edge's start and end relative to the vertex mean, and their cross products (twice the signed
+    areas of the triangles the edges make with the mean): relative, so the terms are of the polygon's
+    size wherever it lies."""
+    a = p - p.mean(axis=0)
+    b = np.roll(a, -1, axis=0)
+    return a, b, a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+
+
 def polygon_mass(vertices) -> tuple[float, np.ndarray, float]:
     """(area, centroid (2,), inertia about the centroid) at unit density of a simple polygon, either winding.
 
-    Exact closed forms (the shoelace sums), taken about the vertex mean so that the terms are of the
-    polygon's size wherever it lies, then moved to the centroid by the parallel-axis theorem.
+    Exact closed forms (the shoelace sums), taken about the vertex mean to limit round-off, then moved to
+    the centroid by the parallel-axis theorem.
     """
     p = np.asarray(vertices, dtype=np.float64)
-    reference = p.mean(axis=0)
-    a = p - reference
-    b = np.roll(a, -1, axis=0)
-    cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    a, b, cross = _shoelace(p)
     twice_area = float(np.sum(cross))
     winding = 1.0 if twice_area > 0 else -1.0
     area = 0.5 * abs(twice_area)
-    centroid = np.sum((a + b) * cross[:, None], axis=0) / (3.0 * twice_area)
+    offset = np.sum((a + b) * cross[:, None], axis=0) / (3.0 * twice_area)  # centroid - vertex mean
     squares = np.sum(a * a, axis=1) + np.sum(a * b, axis=1) + np.sum(b * b, axis=1)
-    inertia_about_reference = winding * float(np.sum(cross * squares)) / 12.0
-    inertia = inertia_about_reference - area * float(centroid @ centroid)
-    return area, reference + centroid, inertia
+    inertia_about_mean = winding * float(np.sum(cross * squares)) / 12.0
+    inertia = inertia_about_mean - area * float(offset @ offset)
+    return area, p.mean(axis=0) + offset, inertia
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -251,8 +257,8 @@ def polygon_mass(vertices) -> tuple[float, np.ndarray, float]:
 class _Ring:
     """The part of a counter-clockwise polygon not yet cut into triangles: a linked ring of vertex indices.
 
-    Only vertices that are not strictly convex (the blockers) can lie in a corner's triangle when another
-    vertex does, so an ear test looks at them alone. Clipping an ear only narrows its neighbours' corners:
+    If any vertex lies in a corner's triangle, one that is not strictly convex (a blocker) does, so an ear
+    test looks at the blockers alone. Clipping an ear only narrows its neighbours' corners:
     a blocker can become convex, never the reverse, and a corner that was not an ear can only become one
     when its neighbours change or a blocker leaves. Ear tests are kept until one of those happens.
     """
@@ -303,12 +309,12 @@ class _Ring:
         return a, corner, c
 
 
-def _ear_triangles(points: np.ndarray, start: int) -> list[tuple[int, int, int]]:
+def _ear_triangles(points: np.ndarray) -> list[tuple[int, int, int]]:
     """Ear clipping that goes on from each ear to the next corner, so that a convex run becomes a fan,
     which merges back into pieces of MAX_PIECE_VERTICES vertices."""
     ring = _Ring(points)
     triangles = []
-    corner = start
+    corner = 0
     while ring.count > 3:
         for _ in range(ring.count):
             if ring.is_ear(corner):
@@ -361,7 +367,7 @@ def _merged(points: np.ndarray, triangles: list[tuple[int, int, int]]) -> list[l
     its two sides is still a piece. Straight vertices stay in the lists until the end, so that every
     diagonal is still an edge of both pieces when its turn comes."""
     pieces: list[list[int] | None] = [list(t) for t in triangles]
-    owner = {}
+    owner: dict[tuple[int, int], int] = {}  # directed edge -> the piece on its left
     for k, triangle in enumerate(triangles):
         for m in range(3):
             owner[triangle[m], triangle[(m + 1) % 3]] = k
@@ -397,5 +403,5 @@ def convex_pieces(vertices) -> list[np.ndarray]:
     points = _counter_clockwise(np.array(vertices, dtype=np.float64))
     if len(points) <= MAX_PIECE_VERTICES and np.all(_turns(points) > 0):
         return [points]
-    pieces = _merged(points, _ear_triangles(points, 0))
+    pieces = _merged(points, _ear_triangles(points))
     return [points[piece] for piece in pieces]
