@@ -28,7 +28,7 @@ _MIN_DISTANCE = 1e-9  # m: closer vertices repeat each other
 _MIN_SINE = 1e-9  # sine of the turn at a vertex: below it the vertex lies on its neighbours' line
 _MIN_AREA = 1e-10  # m^2
 
-# The narrow phase's convexity rule (shapes.convex_polygon): every turn of a piece crosses more than this
+# The convexity rule of a piece: every turn of a piece crosses more than this
 # times scale^2.
 _PIECE_TURN_TOLERANCE = 1e-12
 
@@ -329,7 +329,7 @@ def _ear_triangles(points: np.ndarray) -> list[tuple[int, int, int]]:
 
 
 def _passes_piece_rule(piece: np.ndarray) -> bool:
-    """The narrow phase's convexity rule (shapes.convex_polygon): every turn counter-clockwise by more
+    """The convexity rule of a piece: every turn counter-clockwise by more
     than 1e-12 scale^2, scale the largest coordinate offset from the vertex mean."""
     edges = np.roll(piece, -1, axis=0) - piece
     following = np.roll(edges, -1, axis=0)
