@@ -30,7 +30,7 @@ class Pairs(NamedTuple):
     """The candidate pairs, the fat hitboxes and active flags they were found for, and scratch."""
 
     keys: np.ndarray  # int64 (a << SHAPE_BITS) | b, sorted, a < b; the first count[0] are in use
-    count: np.ndarray  # int64 (1,)
+    count: np.ndarray  # int64 (1,); -1: to be found
     fat_hitbox: np.ndarray  # (S, 4); nan until the pairs are first found
     fat_active: np.ndarray  # (S,) bool
     grid: np.ndarray  # int64 scratch of grid_scratch_size(S)
@@ -52,17 +52,21 @@ def _cell(value, origin, inv_cell, count):
 
 @tick_kernel
 def pairs_hold(bodies, shapes, geometry, pairs):
-    """Whether the pairs found for the fat hitboxes still hold: no body was switched on or off, and
-    every active shape's hitbox lies inside its fat one (a non-finite hitbox does not)."""
-    hitbox, fat, fat_active, active, body = (geometry.hitbox, pairs.fat_hitbox, pairs.fat_active,
-                                             bodies.active, shapes.body)
-    for i in range(hitbox.shape[0]):
-        on = active[body[i]]
-        if on != fat_active[i]:
-            return False
-        if on and not (fat[i, 0] <= hitbox[i, 0] and fat[i, 1] <= hitbox[i, 1]
-                       and hitbox[i, 2] <= fat[i, 2] and hitbox[i, 3] <= fat[i, 3]):
-            return False
+    """Whether the pairs found for the fat hitboxes still hold: they were found (count >= 0), no body
+    was switched on or off, and every active shape's hitbox lies inside its fat one (a non-finite
+    hitbox does not)."""
+    hitbox, fat, fat_active = geometry.hitbox, pairs.fat_hitbox, pairs.fat_active
+    active, first, count = bodies.active, bodies.first_shape, bodies.shape_count
+    if pairs.count[0] < 0:
+        return False
+    for i in range(active.shape[0]):
+        on = active[i]
+        for j in range(first[i], first[i] + count[i]):
+            if on != fat_active[j]:
+                return False
+            if on and not (fat[j, 0] <= hitbox[j, 0] and fat[j, 1] <= hitbox[j, 1]
+                           and hitbox[j, 2] <= fat[j, 2] and hitbox[j, 3] <= fat[j, 3]):
+                return False
     return True
 
 

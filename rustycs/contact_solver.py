@@ -41,9 +41,9 @@ from rustycs.narrow_phase import (
 from rustycs.tick_kernel import tick_kernel
 
 # columns of a solver body row: velocities, inverse masses, displacement and rotation (cos, sin) since the
-# narrow phase, and the damping factors of a substep
-VX, VY, W, INV_MASS, INV_INERTIA, DX, DY, COS, SIN, LINEAR_DECAY, ANGULAR_DECAY = range(11)
-BODY_COLUMNS = 11
+# narrow phase
+VX, VY, W, INV_MASS, INV_INERTIA, DX, DY, COS, SIN = 0, 1, 2, 3, 4, 5, 6, 7, 8
+BODY_COLUMNS = 9
 # The lane buffer: chunks of `LANES` contacts, each field of a chunk `LANES` values wide (field f of
 # lane j at the chunk's start + f * LANES + j), so that a loop over a chunk's lanes reads and writes
 # consecutive values. Offsets are unsigned: numba then indexes without wrap-around checks, which keep
@@ -111,14 +111,11 @@ def _bodies_approach(body, a, b, nx, ny, rna, rnb):
 
 
 @tick_kernel
-def load_bodies(bodies, h, body):
+def load_bodies(bodies, body):
     """Fill the solver rows of the bodies: velocities, inverse masses, no displacement yet since the
-    narrow phase, and the factors exp(-c h) by which damping shrinks the velocities in a substep."""
+    narrow phase."""
     v, w, inv_mass, inv_inertia = bodies.v, bodies.w, bodies.inv_mass, bodies.inv_inertia
-    linear, angular = bodies.linear_damping, bodies.angular_damping
     for i in range(v.shape[0]):
-        body[i, LINEAR_DECAY] = math.exp(-linear[i] * h) if linear[i] != 0.0 else 1.0
-        body[i, ANGULAR_DECAY] = math.exp(-angular[i] * h) if angular[i] != 0.0 else 1.0
         body[i, VX] = v[i, 0]
         body[i, VY] = v[i, 1]
         body[i, W] = w[i]

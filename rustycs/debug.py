@@ -94,7 +94,8 @@ def collide(a: tuple[Shape, tuple[float, float], float], b: tuple[Shape, tuple[f
     of their shape rows that touch within `margin`, in row order."""
     world = World()
     for shape, origin, angle in (a, b):  # lines on static bodies: the narrow phase does not mind
-        world.add_body(shape, position=origin, angle=angle, body_type="dynamic" if shape.has_area else "static")
+        kind = "dynamic" if shape.has_area else "static"
+        world.add_body(shape, position=origin, angle=angle, body_type=kind)
     bodies, shapes, _ = world._kernel_inputs()
     geometry = new_geometry(world.body_count, len(shapes.body), MAX_VERTICES)
     update_geometry(bodies, shapes, SPECULATIVE_DISTANCE, world.dt, True, geometry)

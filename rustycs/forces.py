@@ -41,7 +41,7 @@ def attraction(px, py, forces):
     return ax, ay
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def attractor_potential(px, py, forces):
     """Potential per unit mass consistent with `attraction` (softened core, zero beyond range)."""
     position, gm_all, reach, softening = (forces.attractor_position, forces.attractor_gm,

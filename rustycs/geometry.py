@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from rustycs.body_types import STATIC
-from rustycs.pieces import CHAIN_SEGMENT, CIRCLE
+from rustycs.pieces import CHAIN_SEGMENT
 from rustycs.tick_kernel import tick_kernel
 
 
@@ -25,7 +25,7 @@ class Geometry(NamedTuple):
 
     vertices: np.ndarray  # (S, MAX_VERTICES, 2)
     normals: np.ndarray  # (S, MAX_VERTICES, 2)
-    centroid: np.ndarray  # (S, 2)
+    centroid: np.ndarray  # (S, 2): a circle's centre
     ghosts: np.ndarray  # (S, 2, 2) chain segments only
     hitbox: np.ndarray  # (S, 4) xmin, ymin, xmax, ymax, grown by the body's reach
     reach: np.ndarray  # (N,) m: speculative distance plus one tick of travel
@@ -63,26 +63,18 @@ def update_geometry(bodies, shapes, margin, dt, statics, geometry):
         s = 0.0
         turned = False
         for j in range(first[i], first[i] + count[i]):
-            r = radius[j]
-            if kind[j] == CIRCLE and local_verts[j, 0, 0] == 0.0 and local_verts[j, 0, 1] == 0.0:
-                # a circle about the centre of mass: no turning needed
-                verts[j, 0, 0] = px
-                verts[j, 0, 1] = py
-                centroid[j, 0] = px
+            if n_verts[j] == 0 and local_centroid[j, 0] == 0.0 and local_centroid[j, 1] == 0.0:
+                centroid[j, 0] = px  # a circle about the centre of mass: no turning needed
                 centroid[j, 1] = py
-                hitbox[j, 0] = px - r - fat
-                hitbox[j, 1] = py - r - fat
-                hitbox[j, 2] = px + r + fat
-                hitbox[j, 3] = py + r + fat
-                continue
-            if not turned:
-                c = math.cos(angle[i])
-                s = math.sin(angle[i])
-                turned = True
-            lo_x = np.inf
-            lo_y = np.inf
-            hi_x = -np.inf
-            hi_y = -np.inf
+            else:
+                if not turned:
+                    c = math.cos(angle[i])
+                    s = math.sin(angle[i])
+                    turned = True
+                _turn(px, py, c, s, local_centroid, centroid, j)
+            # the centroid lies inside the piece, so the box of the vertices contains it
+            lo_x = hi_x = centroid[j, 0]
+            lo_y = hi_y = centroid[j, 1]
             for k in range(n_verts[j]):
                 _turn(px, py, c, s, local_verts[j], verts[j], k)
                 nx, ny = local_normals[j, k, 0], local_normals[j, k, 1]
@@ -92,10 +84,10 @@ def update_geometry(bodies, shapes, margin, dt, statics, geometry):
                 lo_y = min(lo_y, verts[j, k, 1])
                 hi_x = max(hi_x, verts[j, k, 0])
                 hi_y = max(hi_y, verts[j, k, 1])
-            _turn(px, py, c, s, local_centroid, centroid, j)
             if kind[j] == CHAIN_SEGMENT:
                 _turn(px, py, c, s, local_ghosts[j], ghosts[j], 0)
                 _turn(px, py, c, s, local_ghosts[j], ghosts[j], 1)
+            r = radius[j]
             hitbox[j, 0] = lo_x - r - fat
             hitbox[j, 1] = lo_y - r - fat
             hitbox[j, 2] = hi_x + r + fat

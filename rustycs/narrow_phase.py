@@ -85,7 +85,7 @@ def _collide(shapes, geometry, sa, sb, within, out):
     # dispatch written out here rather than through a table: each routine is inlined, so a pair pays
     # for one test, not for a call passing a dozen arrays
     if ka == CIRCLE and kb == CIRCLE:
-        return collide_circles(verts[sa, 0, 0], verts[sa, 0, 1], radius[sa], verts[sb, 0, 0], verts[sb, 0, 1],
+        return collide_circles(centroid[sa, 0], centroid[sa, 1], radius[sa], centroid[sb, 0], centroid[sb, 1],
                                radius[sb], within, out)
     # the routines take a chain segment first, a circle last
     flipped = (kb == CHAIN_SEGMENT and ka != CHAIN_SEGMENT) or (ka == CIRCLE and kb != CHAIN_SEGMENT)
@@ -93,14 +93,14 @@ def _collide(shapes, geometry, sa, sb, within, out):
         sa, sb = sb, sa
         ka, kb = kb, ka
     if ka == CHAIN_SEGMENT and kb == CIRCLE:
-        count = collide_chain_circle(verts, normals, geometry.ghosts, shapes.open_ends, sa, verts[sb, 0, 0],
-                                     verts[sb, 0, 1], radius[sb], within, out)
+        count = collide_chain_circle(verts, normals, geometry.ghosts, shapes.open_ends, sa, centroid[sb, 0],
+                                     centroid[sb, 1], radius[sb], within, out)
     elif ka == CHAIN_SEGMENT:
         count = collide_chain_polygon(verts, normals, n_verts, geometry.ghosts, shapes.open_ends, sa, sb,
                                       radius[sb], within, out)
     elif kb == CIRCLE:
-        count = collide_polygon_circle(verts, normals, n_verts, sa, radius[sa], verts[sb, 0, 0],
-                                       verts[sb, 0, 1], radius[sb], within, out)
+        count = collide_polygon_circle(verts, normals, n_verts, sa, radius[sa], centroid[sb, 0],
+                                       centroid[sb, 1], radius[sb], within, out)
     else:
         count = collide_polygons(verts, normals, n_verts, centroid, ka == BOX and kb == BOX, sa, radius[sa],
                                  sb, radius[sb], within, out)

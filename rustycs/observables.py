@@ -12,7 +12,7 @@ from rustycs.forces import attractor_potential
 from rustycs.narrow_phase import NORMAL_IMPULSE, SEPARATION
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def energies_and_momenta(bodies, forces):
     """Kinetic and potential energy, linear and angular momentum (about the origin) of the active
     dynamic bodies."""
@@ -22,7 +22,8 @@ def energies_and_momenta(bodies, forces):
     gravity, gravity_scale = forces.gravity, bodies.gravity_scale
     kinetic = 0.0
     potential = 0.0
-    momentum = np.zeros(2)
+    px = 0.0
+    py = 0.0
     angular = 0.0
     for i in range(x.shape[0]):
         if body_type[i] != DYNAMIC or not active[i]:
@@ -33,14 +34,14 @@ def energies_and_momenta(bodies, forces):
         if inv_inertia[i] > 0.0:
             kinetic += 0.5 * inertia[i] * w[i] * w[i]
             angular += inertia[i] * w[i]
-        momentum[0] += m * v[i, 0]
-        momentum[1] += m * v[i, 1]
+        px += m * v[i, 0]
+        py += m * v[i, 1]
         potential -= m * gravity_scale[i] * (gravity[0] * x[i, 0] + gravity[1] * x[i, 1])
         potential += m * attractor_potential(x[i, 0], x[i, 1], forces)
-    return kinetic, potential, momentum, angular
+    return kinetic, potential, px, py, angular
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def contact_statistics(points, n_points):
     """Touching points (overlapping or carrying load) and the deepest overlap among the first n_points
     contact points, without building the contact list."""

@@ -1,7 +1,7 @@
 """Shapes as the convex pieces the kernels collide, and a body's mass properties from them.
 
-Every piece is a convex polygon of at most MAX_VERTICES vertices with a radius: a circle is one vertex
-(its centre) with its radius, a capsule two vertices with its radius, a segment two vertices with none,
+Every piece is a convex polygon of at most MAX_VERTICES vertices with a radius: a circle is its centre
+with its radius, a capsule two vertices with its radius, a segment two vertices with none,
 a box or polygon piece its corners. A chain is one piece per segment, each knowing the chain's points
 before and after it (its ghosts), so that bodies meet no bump at the joints. Mass properties are exact
 closed forms at unit density: area, area centroid, and the area moment about that centroid; a body sums
@@ -25,9 +25,9 @@ OPEN_START, OPEN_END = 1, 2
 
 @dataclass(frozen=True)
 class Piece:
-    """One convex piece in its body's frame (about the body origin): vertices counter-clockwise; for
-    a chain segment, the chain's points before and after it (`ghosts`), which are the segment's other
-    end where the chain ends there (`open_ends`)."""
+    """One convex piece in its body's frame (about the body origin): vertices counter-clockwise (none
+    for a circle: its centre is its centroid); for a chain segment, the chain's points before and after
+    it (`ghosts`), which are the segment's other end where the chain ends there (`open_ends`)."""
 
     kind: int
     vertices: np.ndarray  # (k, 2)
@@ -85,7 +85,7 @@ def _shape_frame_pieces(shape: Shape) -> list[Piece]:
     if isinstance(shape, Circle):
         r = shape.radius
         area = math.pi * r * r
-        return [_piece(CIRCLE, [[0.0, 0.0]], r, area, None, 0.5 * area * r * r)]
+        return [_piece(CIRCLE, np.zeros((0, 2)), r, area, np.zeros(2), 0.5 * area * r * r)]
     if isinstance(shape, Box):
         w, h = shape.width, shape.height
         corners = [[-w / 2, -h / 2], [w / 2, -h / 2], [w / 2, h / 2], [-w / 2, h / 2]]  # face k+2 opposite k

@@ -8,11 +8,13 @@ momenta, fastest speed) and of the last tick's contacts (count, deepest overlap)
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
-from numba import njit
 
 from rustycs.body_types import DYNAMIC
 from rustycs.observables import body_origin, contact_statistics, energies_and_momenta
+from rustycs.tick_kernel import tick_kernel
 
 # the buffer's arrays, in the order the compiled code takes them: name -> (per-frame shape, dtype),
 # where "n" stands for the body count
@@ -42,7 +44,7 @@ def frame_buffer(capacity: int, bodies: int) -> dict[str, np.ndarray]:
             for name, (shape, dtype) in FRAME_FIELDS.items()}
 
 
-@njit(cache=True)
+@tick_kernel
 def record_frame(frames, k, tick, bodies, forces, points, n_points):
     """Write the current state into row k of `frames` (the buffer's arrays as a tuple, in FRAME_FIELDS
     order); `points` are the last tick's contact points."""
@@ -61,11 +63,7 @@ def record_frame(frames, k, tick, bodies, forces, points, n_points):
         is_active[k, i] = active[i]
         if body_type[i] == DYNAMIC and active[i]:
             fastest = max(fastest, v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1])
-    max_speed[k] = np.sqrt(fastest)
-    ke, pe, p, am = energies_and_momenta(bodies, forces)
-    kinetic[k] = ke
-    potential[k] = pe
-    momentum[k, 0] = p[0]
-    momentum[k, 1] = p[1]
-    angular[k] = am
+    max_speed[k] = math.sqrt(fastest)
+    kinetic[k], potential[k], momentum[k, 0], momentum[k, 1], angular[k] = energies_and_momenta(bodies,
+                                                                                                forces)
     contact_count[k], max_penetration[k] = contact_statistics(points, n_points)

@@ -43,10 +43,10 @@ class Shapes(NamedTuple):
     body: np.ndarray  # (S,) int64 row in Bodies
     kind: np.ndarray  # (S,) int64: pieces.CIRCLE, BOX, POLYGON, CAPSULE, SEGMENT or CHAIN_SEGMENT
     radius: np.ndarray  # (S,) m: circle, capsule
-    count: np.ndarray  # (S,) int64 vertices in use
+    count: np.ndarray  # (S,) int64 vertices in use (0 for a circle)
     vertices: np.ndarray  # (S, MAX_VERTICES, 2) body frame about the centre of mass, counter-clockwise
     normals: np.ndarray  # (S, MAX_VERTICES, 2) outward unit normal of edge k -> k + 1
-    centroid: np.ndarray  # (S, 2) body frame about the centre of mass
+    centroid: np.ndarray  # (S, 2) body frame about the centre of mass (a circle's centre)
     ghosts: np.ndarray  # (S, 2, 2) chain segments: the chain's points before and after
     open_ends: np.ndarray  # (S,) int64 bits: pieces.OPEN_START, OPEN_END
     friction: np.ndarray  # (S,)

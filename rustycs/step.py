@@ -33,7 +33,14 @@ from rustycs.contact_solver import (
     warm_start,
 )
 from rustycs.geometry import Geometry, new_geometry, update_geometry
-from rustycs.motion import apply_bounds, first_non_finite, integrate_positions, integrate_velocities
+from rustycs.motion import (
+    apply_bounds,
+    damp,
+    first_non_finite,
+    integrate_positions,
+    integrate_velocities,
+    per_body_forces,
+)
 from rustycs.narrow_phase import Contacts, narrow_phase, new_contacts
 from rustycs.recording import record_frame
 from rustycs.tick_kernel import tick_kernel
@@ -59,6 +66,8 @@ class Workspace(NamedTuple):
     body: np.ndarray  # (N, BODY_COLUMNS) the solver's rows of the bodies
     batches: Batches
     lanes: np.ndarray  # the solver's lanes of the scheduled contacts
+    gravity: np.ndarray  # (N, 2) per body the world force times its gravity scale
+    decay: np.ndarray  # (N, 2) per body the damping factors of a tick, linear and angular
     statics_placed: np.ndarray  # bool (1,): the static bodies' geometry is up to date
 
 
@@ -66,12 +75,13 @@ class Workspace(NamedTuple):
 def new_workspace(n_bodies, n_shapes, max_vertices, c_key, c_jn, c_jt):
     """Buffers for stepping, with a warm-start cache (keys and impulses) carried over."""
     capacity = max(4 * n_shapes + 16, c_key.shape[0])
-    pairs = Pairs(np.empty(capacity, np.int64), np.zeros(1, np.int64), np.full((n_shapes, 4), np.nan),
+    pairs = Pairs(np.empty(capacity, np.int64), np.full(1, -1, np.int64), np.full((n_shapes, 4), np.nan),
                   np.zeros(n_shapes, np.bool_), np.empty(grid_scratch_size(n_shapes), np.int64),
                   np.empty(n_shapes), np.empty(capacity, np.int64))
     return Workspace(new_geometry(n_bodies, n_shapes, max_vertices), pairs, new_contacts(capacity),
                      new_cache(2 * capacity, c_key, c_jn, c_jt), np.empty((n_bodies, BODY_COLUMNS)),
-                     new_batches(n_bodies, capacity), np.empty(capacity * LANE_FIELDS), np.zeros(1, np.bool_))
+                     new_batches(n_bodies, capacity), np.empty(capacity * LANE_FIELDS),
+                     np.zeros((n_bodies, 2)), np.ones((n_bodies, 2)), np.zeros(1, np.bool_))
 
 
 @njit(cache=True)
@@ -88,36 +98,23 @@ def grown(ws, n_bodies, cells, pairs, points, chunks):
         batches = new_batches(n_bodies, 2 * pairs)
     cache = ws.cache
     if points > cache.key.shape[0]:  # keeps its entries: they warm-start the tick that needs more
-        cache = new_cache(2 * points, cache.key[:cache.count[0]], cache.normal_impulse[:cache.count[0]],
-                          cache.tangent_impulse[:cache.count[0]])
+        n = cache.count[0]
+        cache = new_cache(2 * points, cache.key[:n], cache.normal_impulse[:n], cache.tangent_impulse[:n])
     lanes = ws.lanes
     if chunks * LANES * LANE_FIELDS > lanes.shape[0]:
         lanes = np.empty(2 * chunks * LANES * LANE_FIELDS)
-    return Workspace(ws.geometry, p, contacts, cache, ws.body, batches, lanes, ws.statics_placed)
-
-
-@njit(cache=True)
-def broad_phase(bodies, shapes, ws):
-    """The candidate pairs, found again only when a hitbox left its fat one (or a body was switched on
-    or off); the pair buffers grow when the grid or the pairs need more."""
-    if pairs_hold(bodies, shapes, ws.geometry, ws.pairs):
-        return ws
-    fatten(bodies, shapes, ws.geometry, ws.pairs)
-    n_pairs, n_entries = find_pairs(bodies, shapes, ws.pairs)
-    while n_entries > ws.pairs.cells.shape[0] or n_pairs > ws.pairs.keys.shape[0]:  # rare
-        ws = grown(ws, bodies.x.shape[0], n_entries, n_pairs, 0, 0)
-        n_pairs, n_entries = find_pairs(bodies, shapes, ws.pairs)
-    ws.pairs.count[0] = n_pairs
-    return ws
+    return Workspace(ws.geometry, p, contacts, cache, ws.body, batches, lanes, ws.gravity, ws.decay,
+                     ws.statics_placed)
 
 
 @tick_kernel
-def substeps_and_restitution(batches, n_chunks, lanes, body, bodies, forces, h, substeps, threshold, bouncy):
+def substeps_and_restitution(batches, n_chunks, lanes, body, bodies, forces, gravity, h, substeps, threshold,
+                             bouncy):
     """The solver's substeps: integrate velocities, warm start, solve with the soft bias, integrate
     positions, relax; then restitution, when `bouncy` contacts have any. One compiled call with every
     pass inlined: a call per pass cost a quarter of the tick of a five-body scene."""
     for _ in range(substeps):
-        integrate_velocities(body, bodies, forces, h)
+        integrate_velocities(body, bodies, forces, gravity, h)
         warm_start(batches, n_chunks, lanes, body)
         solve(batches, n_chunks, lanes, body, 1.0 / h, True)
         integrate_positions(body, bodies, h)
@@ -128,6 +125,75 @@ def substeps_and_restitution(batches, n_chunks, lanes, body, bodies, forces, h, 
         restitute(batches, n_chunks, lanes, body, threshold)
 
 
+# entries of a block's status (`run_ticks`): ticks done, frames recorded, bodies that left the bounds,
+# the first body whose state became non-finite (-1: none), and what a buffer must hold to go on
+TICKS_DONE, FRAMES, ESCAPED, BAD_BODY, NEED_CELLS, NEED_PAIRS, NEED_CHUNKS = range(7)
+STATUS_FIELDS = 7
+
+
+@tick_kernel
+def run_ticks(n_ticks, bodies, shapes, forces, settings, ws, first_tick, every, frames, status):
+    """Step until `n_ticks` ticks are done (counted in `status`), a state becomes non-finite, or a
+    buffer is too small: then the tick stops before it changed any state, with the sizes it needs in
+    `status`, to be grown and run again. Compiled without reference counting, like every stage it
+    calls: a tick passes the records to a dozen stages, and counting references to their arrays cost
+    a third of a five-body tick."""
+    dt = settings.dt
+    h = dt / settings.substeps
+    contact_hertz = min(CONTACT_HERTZ, 0.25 / h)
+    soft = softness(contact_hertz, CONTACT_DAMPING_RATIO, h)
+    # contacts against an immovable body are stiffer: only one side gives way
+    stiff = softness(2.0 * contact_hertz, CONTACT_DAMPING_RATIO, h)
+    geometry, pairs, contacts, cache, body, batches, lanes, gravity, decay, statics_placed = ws
+    per_body_forces(bodies, forces, dt, gravity, decay)
+    while status[TICKS_DONE] < n_ticks:
+        bad = first_non_finite(bodies)
+        if bad >= 0:  # set from outside between blocks: report it before it spreads
+            status[BAD_BODY] = bad
+            return
+        update_geometry(bodies, shapes, SPECULATIVE_DISTANCE, dt, not statics_placed[0], geometry)
+        statics_placed[0] = True
+        if not pairs_hold(bodies, shapes, geometry, pairs):
+            fatten(bodies, shapes, geometry, pairs)
+            n_pairs, n_entries = find_pairs(bodies, shapes, pairs)
+            if n_entries > pairs.cells.shape[0] or n_pairs > pairs.keys.shape[0]:
+                pairs.count[0] = -1  # find them again
+                status[NEED_CELLS] = n_entries
+                status[NEED_PAIRS] = n_pairs
+                return
+            pairs.count[0] = n_pairs
+        n_pairs = pairs.count[0]
+        if n_pairs > contacts.manifolds.first.shape[0] or 2 * n_pairs > cache.key.shape[0]:
+            status[NEED_PAIRS] = n_pairs
+            return
+        n_man, n_pts = narrow_phase(pairs.keys, n_pairs, bodies, shapes, geometry, SPECULATIVE_DISTANCE,
+                                    contacts)
+        warm_start_points(contacts.points, n_pts, cache)
+        load_bodies(bodies, body)
+        damp(body, bodies, decay)
+        n_chunks = schedule(contacts.manifolds, n_man, body, batches)
+        if n_chunks * LANES * LANE_FIELDS > lanes.shape[0]:
+            status[NEED_CHUNKS] = n_chunks
+            return
+        bouncy = prepare(batches, n_chunks, contacts.manifolds, contacts.points, body, soft, stiff, lanes)
+        substeps_and_restitution(batches, n_chunks, lanes, body, bodies, forces, gravity, h,
+                                 settings.substeps, settings.restitution_threshold, bouncy)
+        store_impulses(batches, n_chunks, contacts.manifolds, lanes, contacts.points)
+        store_bodies(body, bodies)
+        remember(contacts.points, n_pts, cache)
+        bad = first_non_finite(bodies)
+        if bad >= 0:
+            status[BAD_BODY] = bad
+            return
+        if settings.has_bounds:
+            status[ESCAPED] += apply_bounds(bodies, settings.bounds)
+        status[TICKS_DONE] += 1
+        done = status[TICKS_DONE]
+        if every > 0 and (done % every == 0 or done == n_ticks):
+            record_frame(frames, status[FRAMES], first_tick + done, bodies, forces, contacts.points, n_pts)
+            status[FRAMES] += 1
+
+
 @njit(cache=True, nogil=True)
 def step_world(n_ticks, bodies, shapes, forces, settings, ws, first_tick, every, frames):
     """Advance `n_ticks` ticks in place. Releases the GIL, so independent worlds step in parallel
@@ -135,50 +201,18 @@ def step_world(n_ticks, bodies, shapes, forces, settings, ws, first_tick, every,
 
     With `every` > 0, a frame (`recording.record_frame`) is written into `frames` after every
     `every`-th tick of the block and after its last; ticks are numbered from `first_tick`.
-    Returns (bad_body, ticks_done, escaped, frames_recorded, workspace): bad_body is -1, or the first
-    body whose state became non-finite in tick `ticks_done` (then the block stops there, its frames so
-    far recorded). The workspace is the one given, with any buffer that had to grow replaced.
+    Returns (status, workspace): the block's status (see `run_ticks`; BAD_BODY is -1 or the first body
+    whose state became non-finite in the tick after TICKS_DONE, where the block stopped, its frames so
+    far recorded) and the workspace given, with any buffer that had to grow replaced.
     """
-    dt = settings.dt
-    h = dt / settings.substeps
-    contact_hertz = min(CONTACT_HERTZ, 0.25 / h)
-    soft = softness(contact_hertz, CONTACT_DAMPING_RATIO, h)
-    # contacts against an immovable body are stiffer: only one side gives way
-    stiff = softness(2.0 * contact_hertz, CONTACT_DAMPING_RATIO, h)
-    n_bodies = bodies.x.shape[0]
-    escaped = 0
-    bad = -1
-    done = 0
-    recorded = 0
-    for _ in range(n_ticks):
-        bad = first_non_finite(bodies)
-        if bad >= 0:  # set from outside between blocks: report it before it spreads
-            break
-        update_geometry(bodies, shapes, SPECULATIVE_DISTANCE, dt, not ws.statics_placed[0], ws.geometry)
-        ws.statics_placed[0] = True
-        ws = broad_phase(bodies, shapes, ws)
-        n_pairs = ws.pairs.count[0]
-        ws = grown(ws, n_bodies, 0, n_pairs, 2 * n_pairs, 0)
-        n_man, n_pts = narrow_phase(ws.pairs.keys, n_pairs, bodies, shapes, ws.geometry,
-                                    SPECULATIVE_DISTANCE, ws.contacts)
-        warm_start_points(ws.contacts.points, n_pts, ws.cache)
-        load_bodies(bodies, h, ws.body)
-        n_chunks = schedule(ws.contacts.manifolds, n_man, ws.body, ws.batches)
-        ws = grown(ws, n_bodies, 0, 0, 0, n_chunks)
-        bouncy = prepare(ws.batches, n_chunks, ws.contacts.manifolds, ws.contacts.points, ws.body, soft,
-                         stiff, ws.lanes)
-        substeps_and_restitution(ws.batches, n_chunks, ws.lanes, ws.body, bodies, forces, h,
-                                 settings.substeps, settings.restitution_threshold, bouncy)
-        store_impulses(ws.batches, n_chunks, ws.contacts.manifolds, ws.lanes, ws.contacts.points)
-        store_bodies(ws.body, bodies)
-        remember(ws.contacts.points, n_pts, ws.cache)
-        bad = first_non_finite(bodies)
-        if bad >= 0:
-            break
-        if settings.has_bounds:
-            escaped += apply_bounds(bodies, settings.bounds)
-        done += 1
-        if every > 0 and (done % every == 0 or done == n_ticks):
-            record_frame(frames, recorded, first_tick + done, bodies, forces, ws.contacts.points, n_pts)
-            recorded += 1
-    return bad, done, escaped, recorded, ws
+    status = np.zeros(STATUS_FIELDS, np.int64)
+    status[BAD_BODY] = -1
+    while True:
+        status[NEED_CELLS] = 0
+        status[NEED_PAIRS] = 0
+        status[NEED_CHUNKS] = 0
+        run_ticks(n_ticks, bodies, shapes, forces, settings, ws, first_tick, every, frames, status)
+        if status[BAD_BODY] >= 0 or status[TICKS_DONE] == n_ticks:
+            return status, ws
+        ws = grown(ws, bodies.x.shape[0], status[NEED_CELLS], status[NEED_PAIRS], 2 * status[NEED_PAIRS],
+                   status[NEED_CHUNKS])

@@ -198,7 +198,7 @@ class World:
         written. The buffer must hold them all: ceil(n / every) rows.
         """
         ensure_fresh()
-        from rustycs.step import new_workspace, step_world
+        from rustycs.step import BAD_BODY, ESCAPED, FRAMES, TICKS_DONE, new_workspace, step_world
 
         if n <= 0:
             return 0
@@ -213,15 +213,15 @@ class World:
             last = self._last_contacts()
             self._workspace = new_workspace(self.body_count, self._shapes.rows, MAX_VERTICES, last.key,
                                             last.normal_impulse, last.tangent_impulse)
-        bad, done, escaped, recorded, self._workspace = step_world(
-            n, bodies, shapes, forces, self._settings(), self._workspace, self.tick, every,
-            tuple(record.values()))
+        status, self._workspace = step_world(n, bodies, shapes, forces, self._settings(), self._workspace,
+                                             self.tick, every, tuple(record.values()))
         self._contact_rows = None
-        self.escaped_count += escaped
+        self.escaped_count += int(status[ESCAPED])
+        done, recorded, bad = int(status[TICKS_DONE]), int(status[FRAMES]), int(status[BAD_BODY])
         if bad >= 0:
             self.tick += done + 1
-            raise SimulationDiverged(self.tick, int(bad),
-                                     f"non-finite state in tick {self.tick} at body {int(bad)}", recorded)
+            raise SimulationDiverged(self.tick, bad, f"non-finite state in tick {self.tick} at body {bad}",
+                                     recorded)
         self.tick += done
         return recorded
 
