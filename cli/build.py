@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from rustycs_cli.scene import Aabb, Body, Circle, Material, Obb, Scene
+from .scene import Aabb, Body, Circle, Material, Obb, Scene
 
 if TYPE_CHECKING:
     import rustycs

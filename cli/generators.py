@@ -15,7 +15,8 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from rustycs_cli.scene import (
+
+from .scene import (
     BodyTypeChoice,
     Generator,
     Grid,

@@ -16,10 +16,12 @@ from typing import Any
 
 from pydantic import ValidationError
 from pydantic_core import ErrorDetails
-from rustycs_cli.errors import UserError
-from rustycs_cli.generators import expand_generators
-from rustycs_cli.overrides import NAMED_LISTS, apply_overrides
-from rustycs_cli.scene import (
+from yaml.nodes import Node
+
+from .errors import UserError
+from .generators import expand_generators
+from .overrides import NAMED_LISTS, apply_overrides
+from .scene import (
     Loc,
     Scene,
     child_annotation,
@@ -28,7 +30,7 @@ from rustycs_cli.scene import (
     scene_problems,
     union_tags,
 )
-from rustycs_cli.yaml_source import (
+from .yaml_source import (
     Document,
     dump_scene_yaml,
     duplicate_keys,
@@ -36,7 +38,6 @@ from rustycs_cli.yaml_source import (
     parse_document,
     where,
 )
-from yaml.nodes import Node
 
 RESOLVED_HEADER = "# resolved by rustycs: overrides applied, generators expanded"
 

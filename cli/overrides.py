@@ -16,7 +16,8 @@ from typing import Any
 
 import yaml
 from pydantic import BaseModel
-from rustycs_cli.scene import (
+
+from .scene import (
     PRESET_MATERIALS,
     Scene,
     child_annotation,
@@ -25,7 +26,7 @@ from rustycs_cli.scene import (
     did_you_mean,
     model_fields_at,
 )
-from rustycs_cli.yaml_source import Path, parse_value
+from .yaml_source import Path, parse_value
 
 NAMED_LISTS = ("bodies", "forces", "attractors", "generators")
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
 from rustycs_cli.build import build_world, material_names
 from rustycs_cli.loading import load_scene_text
 from rustycs_cli.scene import PRESET_MATERIALS

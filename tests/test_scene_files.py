@@ -10,6 +10,7 @@ from typing import Any
 
 import pytest
 import yaml
+
 from rustycs_cli.loading import load_scene
 from rustycs_cli.scene import PRESET_MATERIALS, Circle, Scene
 

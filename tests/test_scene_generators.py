@@ -6,6 +6,7 @@ import math
 from pathlib import Path
 
 import pytest
+
 from rustycs_cli.errors import UserError
 from rustycs_cli.loading import load_scene, load_scene_text
 from rustycs_cli.scene import Body, Circle, Material, Polygon, polygon_problem

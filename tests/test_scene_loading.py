@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 import pytest
+
 from rustycs_cli.errors import UserError
 from rustycs_cli.loading import load_scene, load_scene_text
 from rustycs_cli.scene import Aabb, Circle, Material, Obb, Polygon
