@@ -32,6 +32,9 @@ from pydantic import (
 from pydantic.fields import FieldInfo
 from pydantic_core import PydanticCustomError
 
+from rustycs import defaults
+from rustycs.materials import MATERIALS
+
 Loc = tuple[str | int, ...]
 Problem = tuple[Loc, str]
 
@@ -105,12 +108,12 @@ class Material(_Model):
 
 
 PRESET_MATERIALS: dict[str, Material] = {
-    "default": Material(density=0.1, restitution=0.5, friction=0.6),
-    "rubber": Material(density=0.9, restitution=0.6, friction=0.8),
-    "plastic": Material(density=1.2, restitution=0.5, friction=0.6),
-    "stone": Material(density=2.5, restitution=0.2, friction=0.4),
-    "metal": Material(density=7.8, restitution=0.1, friction=0.2),
+    name: Material(density=m.density, restitution=m.restitution, friction=m.friction)
+    for name, m in MATERIALS.items()
 }
+_PRESET_VALUES = ", ".join(
+    f"{name} ({m.density:g}, {m.restitution:g}, {m.friction:g})" for name, m in PRESET_MATERIALS.items()
+)
 
 
 def _material_tag(value: Any) -> str | None:
@@ -258,7 +261,7 @@ class Body(_Model):
         examples=["crate"],
     )
     type: BodyType = Field(
-        "dynamic",
+        defaults.BODY_TYPE,
         description="static: never moves; dynamic: moved by forces and contacts; kinematic: moves with its "
         "own velocity, pushes dynamic bodies, unaffected by forces and contacts.",
         examples=["static"],
@@ -279,8 +282,8 @@ class Body(_Model):
         0.0, description="Initial angular velocity, rad/s, counter-clockwise.", examples=[2.0]
     )
     material: MaterialRef = Field(
-        "default",
-        description="A preset (default, rubber, plastic, stone, metal), a name from `materials`, or an "
+        defaults.MATERIAL,
+        description=f"A preset ({', '.join(PRESET_MATERIALS)}), a name from `materials`, or an "
         "inline {density, restitution, friction}.",
         examples=["rubber", {"density": 2.0, "restitution": 0.1, "friction": 0.9}],
     )
@@ -291,7 +294,7 @@ class Body(_Model):
         examples=[3.0],
     )
     collision_group: int = Field(
-        0,
+        defaults.COLLISION_GROUP,
         description="Two bodies with the same non-zero group never collide with each other (0: collides "
         "with everything).",
         examples=[1],
@@ -335,7 +338,10 @@ class Attractor(_Model):
         examples=[5.0],
     )
     min_distance: float = Field(
-        0.01, gt=0, description="Softening: d is taken as max(d, min_distance), m.", examples=[0.1]
+        defaults.MIN_DISTANCE,
+        gt=0,
+        description="Softening: d is taken as max(d, min_distance), m.",
+        examples=[0.1],
     )
 
 
@@ -356,7 +362,7 @@ class World(_Model):
     """Time stepping and world-wide settings."""
 
     tick_rate: float = Field(
-        60.0, gt=0, description="Ticks per second; dt = 1 / tick_rate. > 0.", examples=[240]
+        defaults.TICK_RATE, gt=0, description="Ticks per second; dt = 1 / tick_rate. > 0.", examples=[240]
     )
     ticks: int = Field(
         600,
@@ -365,12 +371,14 @@ class World(_Model):
         examples=[1200],
     )
     precision: int = Field(
-        10,
+        defaults.PRECISION,
         ge=1,
         description="Solver iterations per tick (the thesis's collision precision). >= 1.",
         examples=[10],
     )
-    gravitational_constant: float = Field(1.0, ge=0, description="G used by attractors.", examples=[1.0])
+    gravitational_constant: float = Field(
+        defaults.GRAVITATIONAL_CONSTANT, ge=0, description="G used by attractors.", examples=[1.0]
+    )
     bounds: Rect | None = Field(
         None,
         description="A dynamic body whose centre leaves this box is deactivated (frozen, no longer "
@@ -378,7 +386,7 @@ class World(_Model):
         examples=[{"min": [-100, -100], "max": [100, 100]}],
     )
     restitution_threshold: float = Field(
-        1.0,
+        defaults.RESTITUTION_THRESHOLD,
         ge=0,
         description="Contacts approaching slower than this, m/s, do not bounce (addition).",
         examples=[1.0],
@@ -681,7 +689,7 @@ class Generator(_Model):
         examples=[500],
     )
     type: GeneratedBodyType = Field(
-        "dynamic", description="Body type of every body, or {choice: [...]}.", examples=["dynamic"]
+        defaults.BODY_TYPE, description="Body type of every body, or {choice: [...]}.", examples=["dynamic"]
     )
     shape: GeneratedShape = Field(
         description="Shape, whose sizes may be distributions; also {type: random_polygon, vertices, radius} "
@@ -714,7 +722,7 @@ class Generator(_Model):
         examples=[{"normal": [0, 1]}],
     )
     material: GeneratedMaterial = Field(
-        "default",
+        defaults.MATERIAL,
         description="Material name, inline material, or {choice: [...]}.",
         examples=[{"choice": ["rubber", "plastic", "stone", "metal"]}],
     )
@@ -723,7 +731,9 @@ class Generator(_Model):
         description="Mass override, kg (number or distribution). Default: area x density.",
         examples=[1.0],
     )
-    collision_group: int = Field(0, description="collision_group of every body.", examples=[0])
+    collision_group: int = Field(
+        defaults.COLLISION_GROUP, description="collision_group of every body.", examples=[0]
+    )
 
     @model_validator(mode="after")
     def _placement(self) -> Generator:
@@ -800,9 +810,8 @@ class Scene(_Model):
     )
     materials: dict[str, Material] = Field(
         {},
-        description="User materials by name; they extend, and may override, the presets default (0.1, 0.5, "
-        "0.6), rubber (0.9, 0.6, 0.8), plastic (1.2, 0.5, 0.6), stone (2.5, 0.2, 0.4) and metal (7.8, 0.1, "
-        "0.2) as (density, restitution, friction).",
+        description=f"User materials by name; they extend, and may override, the presets {_PRESET_VALUES} "
+        "as (density, restitution, friction).",
         examples=[{"ice": {"density": 0.9, "restitution": 0.05, "friction": 0.02}}],
     )
     bodies: list[Body] = Field(
