@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from .scene import Aabb, Body, Circle, Material, Obb, Scene
+from .errors import UserError
+from .scene import Aabb, Body, Circle, Material, Obb, Polygon, Scene
 
 if TYPE_CHECKING:
     import rustycs
@@ -36,26 +37,64 @@ def build_world(scene: Scene) -> rustycs.World:
             min_distance=attractor.min_distance,
         )
     for body in scene.bodies:
+        _check_buildable(body)
         material = scene.material_of(body)
-        world.add_body(
-            _shape(body),
-            position=body.position,
-            angle=body.angle,
-            velocity=body.velocity,
-            angular_velocity=body.angular_velocity,
-            body_type=body.type,
-            material=rustycs.Material(material.density, material.restitution, material.friction),
-            mass=body.mass,
-            collision_group=body.collision_group,
-        )
+        try:
+            world.add_body(
+                _shape(body),
+                position=body.position,
+                angle=body.angle,
+                velocity=body.velocity,
+                angular_velocity=body.angular_velocity,
+                body_type=body.type,
+                material=rustycs.Material(material.density, material.restitution, material.friction),
+                mass=body.mass,
+                collision_group=body.collision_group,
+            )
+        except ValueError as err:  # a polygon the engine cannot take yet (concave, or more than 8 vertices)
+            raise UserError(f"body '{body.name}': {err}: {_NOT_YET}") from None
     return world
+
+
+# Until the engine's API for bodies made of shapes lands, bodies that need it are refused here rather than
+# simulated without what they ask for.
+_NOT_YET = "this version of the engine cannot simulate it yet"
+_NEW_BODY_KEYS = (
+    "collision_category",
+    "collision_mask",
+    "linear_damping",
+    "angular_damping",
+    "gravity_scale",
+    "fixed_rotation",
+    "bullet",
+)
+_NEW_SHAPE_KEYS = ("offset", "angle", "material", "sensor")
+
+
+def _check_buildable(body: Body) -> None:
+    """Raise a UserError when `body` needs what this engine cannot build: several shapes, a capsule,
+    segment or chain, or any of the keys that came with them."""
+    shapes = body.shapes or []
+    if len(shapes) > 1:
+        raise UserError(f"body '{body.name}': it has several shapes: {_NOT_YET}")
+    (shape,) = shapes
+    if not isinstance(shape, (Circle, Aabb, Obb, Polygon)):
+        raise UserError(f"body '{body.name}': its shape is a {shape.type}: {_NOT_YET}")
+    keys = [
+        f"shape.{key}"
+        for key in _NEW_SHAPE_KEYS
+        if getattr(shape, key) != type(shape).model_fields[key].default
+    ]
+    keys += [key for key in _NEW_BODY_KEYS if getattr(body, key) != Body.model_fields[key].default]
+    if keys:
+        raise UserError(f"body '{body.name}': it sets {', '.join(keys)}: {_NOT_YET}")
 
 
 def _shape(body: Body) -> rustycs.Circle | rustycs.Box | rustycs.Polygon:
     """The engine shape of a body."""
     import rustycs
 
-    shape = body.shape
+    (shape,) = body.shapes or []
     if isinstance(shape, Circle):
         return rustycs.Circle(radius=shape.radius)
     if isinstance(shape, (Aabb, Obb)):

@@ -89,7 +89,7 @@ def test_unknown_top_level_key_and_missing_key(tmp_path: Path) -> None:
     path, messages = problems(tmp_path, "wrld: {}\nbodies:\n  - {name: b, position: [0, 0]}\n")
     assert messages == [
         f"{path}:1:1: wrld: unknown key 'wrld' (did you mean 'world'?)",
-        f"{path}:3:5: bodies.b: missing key 'shape'",
+        f"{path}:3:5: bodies.b: missing key 'shape' (or 'shapes' for several)",
     ]
 
 
@@ -219,7 +219,7 @@ def test_unknown_shape_type(tmp_path: Path) -> None:
     path, messages = problems(tmp_path, one_body("{type: circel, radius: 1}"))
     assert messages == [
         f"{path}:3:19: bodies.b.shape.type: unknown shape type 'circel' (did you mean "
-        "'circle'?); expected one of: circle, aabb, obb, polygon"
+        "'circle'?); expected one of: circle, aabb, obb, polygon, capsule, segment, chain"
     ]
 
 
