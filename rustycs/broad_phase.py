@@ -1,26 +1,41 @@
-"""Broad phase: candidate pairs from overlapping hitboxes, through a uniform grid.
+"""Broad phase: candidate pairs of shapes from overlapping hitboxes, through a uniform grid.
 
-The pairs are found for fat hitboxes (each hitbox grown by `FAT_MARGIN`) and kept while every body's
+The pairs are found for fat hitboxes (each hitbox grown by `FAT_MARGIN`) and kept while every shape's
 hitbox stays inside its fat one and no body is switched on or off: a resting pile then needs no
 broad phase at all, as in Box2D's tree of fat boxes. A pair of fat boxes that do not touch as hitboxes
 gives no contact in the narrow phase, so the contacts are those of the hitboxes' pairs, bit for bit.
 
-The grid covers the hitboxes of the dynamic bodies only and its cell size follows their median size,
-so the cost grows near-linearly with evenly spread bodies. Static and kinematic bodies are inserted
-clipped to that domain, so a huge floor costs one row of cells. A pair is reported once, by the cell
-holding the lower corner of the two hitboxes' intersection. Pairs come out sorted by (a, b): the
-order the solver relies on for determinism. The buffers are the caller's and are reused tick after
-tick, so a tick allocates nothing once they have grown to the scene.
+The grid covers the hitboxes of the shapes of dynamic bodies only and its cell size follows their
+median size, so the cost grows near-linearly with evenly spread bodies. Shapes of static and kinematic
+bodies are inserted clipped to that domain, so a huge floor costs one row of cells. A pair is reported
+once, by the cell holding the lower corner of the two hitboxes' intersection. Pairs come out sorted by
+(a, b), shape rows: the order the solver relies on for determinism. Shapes of one body, sensors, and
+shapes that the collision filter keeps apart are never paired. The buffers are the caller's and are
+reused tick after tick, so a tick allocates nothing once they have grown to the scene.
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
+from rustycs.constants import FAT_MARGIN
 from rustycs.tick_kernel import tick_kernel
+
+
+class Pairs(NamedTuple):
+    """The candidate pairs, the fat hitboxes and active flags they were found for, and scratch."""
+
+    keys: np.ndarray  # int64 (a << SHAPE_BITS) | b, sorted, a < b; the first count[0] are in use
+    count: np.ndarray  # int64 (1,)
+    fat_hitbox: np.ndarray  # (S, 4); nan until the pairs are first found
+    fat_active: np.ndarray  # (S,) bool
+    grid: np.ndarray  # int64 scratch of grid_scratch_size(S)
+    extents: np.ndarray  # (S,) scratch
+    cells: np.ndarray  # int64 scratch: the grid's cell entries
 
 
 @njit(cache=True, inline="always")
@@ -35,40 +50,58 @@ def _cell(value, origin, inv_cell, count):
     return int(min(max((value - origin) * inv_cell, 0.0), count - 1.0))
 
 
-FAT_MARGIN = 0.1  # m: how far a hitbox may move or grow before the pairs are found again
-
-
 @tick_kernel
-def pairs_hold(hitbox, active, fat, fat_active):
+def pairs_hold(bodies, shapes, geometry, pairs):
     """Whether the pairs found for the fat hitboxes still hold: no body was switched on or off, and
-    every active body's hitbox lies inside its fat one (a non-finite hitbox does not)."""
+    every active shape's hitbox lies inside its fat one (a non-finite hitbox does not)."""
+    hitbox, fat, fat_active, active, body = (geometry.hitbox, pairs.fat_hitbox, pairs.fat_active,
+                                             bodies.active, shapes.body)
     for i in range(hitbox.shape[0]):
-        if active[i] != fat_active[i]:
+        on = active[body[i]]
+        if on != fat_active[i]:
             return False
-        if active[i] and not (fat[i, 0] <= hitbox[i, 0] and fat[i, 1] <= hitbox[i, 1]
-                              and hitbox[i, 2] <= fat[i, 2] and hitbox[i, 3] <= fat[i, 3]):
+        if on and not (fat[i, 0] <= hitbox[i, 0] and fat[i, 1] <= hitbox[i, 1]
+                       and hitbox[i, 2] <= fat[i, 2] and hitbox[i, 3] <= fat[i, 3]):
             return False
     return True
 
 
 @tick_kernel
-def fatten(hitbox, active, fat, fat_active):
+def fatten(bodies, shapes, geometry, pairs):
     """The fat hitboxes the pairs are found for, and the active flags they hold for."""
+    hitbox, fat, fat_active, active, body = (geometry.hitbox, pairs.fat_hitbox, pairs.fat_active,
+                                             bodies.active, shapes.body)
     for i in range(hitbox.shape[0]):
         fat[i, 0] = hitbox[i, 0] - FAT_MARGIN
         fat[i, 1] = hitbox[i, 1] - FAT_MARGIN
         fat[i, 2] = hitbox[i, 2] + FAT_MARGIN
         fat[i, 3] = hitbox[i, 3] + FAT_MARGIN
-        fat_active[i] = active[i]
+        fat_active[i] = active[body[i]]
 
 
-BODY_BITS = 28  # a pair's key: (a << BODY_BITS) | b, so that keys sort by (a, b)
-BODY_MASK = (1 << BODY_BITS) - 1
+@njit(cache=True, inline="always")
+def may_collide(shapes, bodies, i, j):
+    """Whether shapes i and j may touch: of two bodies, at least one movable, neither a sensor, and
+    the filters agree (no shared non-zero group; each one's category in the other's mask)."""
+    a = shapes.body[i]
+    b = shapes.body[j]
+    if a == b or (bodies.inv_mass[a] == 0.0 and bodies.inv_mass[b] == 0.0):
+        return False
+    if shapes.sensor[i] or shapes.sensor[j]:
+        return False
+    group = shapes.group
+    if group[i] != 0 and group[i] == group[j]:
+        return False
+    return (shapes.category[i] & shapes.mask[j]) != 0 and (shapes.category[j] & shapes.mask[i]) != 0
+
+
+SHAPE_BITS = 27  # a pair's key: (a << SHAPE_BITS) | b, so that keys sort by (a, b)
+SHAPE_MASK = (1 << SHAPE_BITS) - 1
 
 
 @njit(cache=True)
 def grid_scratch_size(n):
-    """Integers of scratch `find_pairs` needs for n bodies: cell ranges, dynamic bodies, cell counts."""
+    """Integers of scratch `find_pairs` needs for n shapes: cell ranges, moving shapes, cell counts."""
     return 13 * n + 33
 
 
@@ -100,19 +133,20 @@ def _select(values, k):
 
 
 @tick_kernel
-def find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, keys):
-    """Candidate pairs as sorted keys (a << BODY_BITS) | b in keys[:count], a < b, each with a
-    dynamic body.
+def find_pairs(bodies, shapes, pairs):
+    """Candidate pairs as sorted keys (a << SHAPE_BITS) | b in pairs.keys, a < b, that `may_collide`,
+    for the fat hitboxes.
 
-    `grid` (grid_scratch_size(n) integers), `extents` (n floats) and `cells` are scratch. Returns
-    (pair count, cell entries): when either exceeds its buffer (`keys`, `cells`), the pairs were not
-    all written, and the caller grows the buffers and calls again.
+    Returns (pair count, cell entries): when either exceeds its buffer (`keys`, `cells`), the pairs
+    were not all written, and the caller grows the buffers and calls again.
     """
+    hitbox, grid, extents, cells, keys = pairs.fat_hitbox, pairs.grid, pairs.extents, pairs.cells, pairs.keys
+    inv_mass, active, body = bodies.inv_mass, bodies.active, shapes.body
     n = hitbox.shape[0]
     dynamic = grid[:n]
     nd = 0
     for i in range(n):
-        if active[i] and inv_mass[i] > 0.0:
+        if active[body[i]] and inv_mass[body[i]] > 0.0:
             dynamic[nd] = i
             nd += 1
     if nd == 0:
@@ -150,7 +184,7 @@ def find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, keys):
         counts[c] = 0
     for i in range(n):
         ranges[4 * i] = -1
-        if not active[i]:
+        if not active[body[i]]:
             continue
         inside = hitbox[i, 2] >= lo_x and hitbox[i, 0] <= hi_x
         if not (inside and hitbox[i, 3] >= lo_y and hitbox[i, 1] <= hi_y):
@@ -201,14 +235,10 @@ def find_pairs(hitbox, inv_mass, active, group, grid, extents, cells, keys):
                     if (max(ranges[4 * i], ranges[4 * j]) != cx
                             or max(ranges[4 * i + 1], ranges[4 * j + 1]) != cy):
                         continue
-                    if not hitboxes_overlap(hitbox, i, j):
-                        continue
-                    if inv_mass[i] == 0.0 and inv_mass[j] == 0.0:
-                        continue
-                    if group[i] != 0 and group[i] == group[j]:
+                    if not hitboxes_overlap(hitbox, i, j) or not may_collide(shapes, bodies, i, j):
                         continue
                     if count < keys.shape[0]:
-                        key = (i << BODY_BITS) | j
+                        key = (i << SHAPE_BITS) | j
                         k = count
                         while k > first and keys[k - 1] > key:
                             keys[k] = keys[k - 1]

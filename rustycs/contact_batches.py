@@ -15,6 +15,8 @@ longest has 111 of its 590 contacts, so four lanes are nearly always full.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
@@ -22,19 +24,32 @@ from rustycs.contact_solver import INV_INERTIA, INV_MASS, LANES
 from rustycs.tick_kernel import tick_kernel
 
 
+class Batches(NamedTuple):
+    """The chunks of a tick's manifolds (M at most, as many chunks at most)."""
+
+    first_chunk: np.ndarray  # (N,) per body: the first chunk its next contact may go to
+    next_open: np.ndarray  # (M + 1,) per chunk: the next one with a free lane (union-find)
+    fill: np.ndarray  # (M,) per chunk: lanes filled, from the first
+    chunk_points: np.ndarray  # (M,) per chunk: the largest point count of its manifolds
+    slot_manifold: np.ndarray  # (M * LANES,) per slot (lane): its manifold
+    slot_a: np.ndarray  # (M * LANES,) per slot: the manifold's bodies
+    slot_b: np.ndarray
+    last_a: np.ndarray  # (M,) the manifolds scheduled last: bodies and point counts
+    last_b: np.ndarray
+    last_count: np.ndarray
+    last: np.ndarray  # int64 (2,): their number (-1: none yet) and chunk count
+
+
 @njit(cache=True)
-def batch_buffers(n_bodies, manifolds):
-    """Buffers of `schedule` for n bodies and up to `manifolds` manifolds (as many chunks at most):
-    each body's first possible chunk; per chunk the next one with a free lane, the lanes filled and the
-    largest point count; per slot (lane) its manifold and bodies; the manifolds scheduled last (bodies,
-    point counts) and their number and chunk count (none yet)."""
+def new_batches(n_bodies, manifolds):
     slots = manifolds * LANES
     last = np.zeros(2, np.int64)
     last[0] = -1
-    return (np.zeros(n_bodies, np.int64), np.zeros(manifolds + 1, np.int64), np.zeros(manifolds, np.int64),
-            np.zeros(manifolds, np.int64), np.zeros(slots, np.int64), np.zeros(slots, np.int64),
-            np.zeros(slots, np.int64), np.zeros(manifolds, np.int64), np.zeros(manifolds, np.int64),
-            np.zeros(manifolds, np.int64), last)
+    return Batches(np.zeros(n_bodies, np.int64), np.zeros(manifolds + 1, np.int64),
+                   np.zeros(manifolds, np.int64), np.zeros(manifolds, np.int64), np.zeros(slots, np.int64),
+                   np.zeros(slots, np.int64),
+                   np.zeros(slots, np.int64), np.zeros(manifolds, np.int64), np.zeros(manifolds, np.int64),
+                   np.zeros(manifolds, np.int64), last)
 
 
 @njit(cache=True, inline="always")
@@ -43,14 +58,15 @@ def _movable(body, i):
 
 
 @tick_kernel
-def schedule(m_a, m_b, m_count, body, batches):
-    """Place the manifolds (sorted by body ids) in chunks of lane slots; returns the chunk count.
+def schedule(manifolds, n_man, body, batches):
+    """Place the first n_man manifolds (sorted by body ids) in chunks of lane slots; returns the chunk
+    count. `body` holds the solver rows of the bodies.
 
     The manifolds of a resting scene are those of the tick before (same bodies, same point counts):
     then the slots are as they were."""
+    m_a, m_b, m_count = manifolds.body_a, manifolds.body_b, manifolds.count
     (first_chunk, next_open, fill, chunk_points, slot_manifold, slot_a, slot_b, last_a, last_b, last_count,
      last) = batches
-    n_man = m_a.shape[0]
     if n_man == last[0]:
         same = True
         for m in range(n_man):
@@ -63,7 +79,7 @@ def schedule(m_a, m_b, m_count, body, batches):
         first_chunk[i] = 0
     n_chunks = 0
     next_open[0] = 0
-    for m in range(m_a.shape[0]):
+    for m in range(n_man):
         a = m_a[m]
         b = m_b[m]
         k = max(first_chunk[a], first_chunk[b])

@@ -24,24 +24,26 @@ import numpy as np
 from numba import njit
 
 from rustycs.body_types import DYNAMIC
+from rustycs.constants import MAX_PUSH_SPEED
+from rustycs.narrow_phase import (
+    FRICTION,
+    NORMAL_IMPULSE,
+    NX,
+    NY,
+    RAX,
+    RAY,
+    RBX,
+    RBY,
+    RESTITUTION,
+    SEPARATION,
+    TANGENT_IMPULSE,
+)
 from rustycs.tick_kernel import tick_kernel
 
-CONTACT_HERTZ = 60.0
-DAMPING_RATIO = 10.0
-MAX_PUSH_SPEED = 3.0  # m/s: the fastest speed at which overlap is pushed apart
-
 # columns of a solver body row: velocities, inverse masses, displacement and rotation (cos, sin) since the
-# narrow phase
-VX, VY, W, INV_MASS, INV_INERTIA, DX, DY, COS, SIN = 0, 1, 2, 3, 4, 5, 6, 7, 8
-BODY_COLUMNS = 9
-# columns of a contact point row, as the narrow phase finds it: anchors from both centres of mass,
-# separation, and the accumulated impulses (warm start in, result out)
-RAX, RAY, RBX, RBY, SEPARATION, NORMAL_IMPULSE, TANGENT_IMPULSE = 0, 1, 2, 3, 4, 5, 6
-POINT_COLUMNS = 7
-# columns of a manifold row
-NX, NY, FRICTION, RESTITUTION = 0, 1, 2, 3
-MANIFOLD_COLUMNS = 4
-
+# narrow phase, and the damping factors of a substep
+VX, VY, W, INV_MASS, INV_INERTIA, DX, DY, COS, SIN, LINEAR_DECAY, ANGULAR_DECAY = range(11)
+BODY_COLUMNS = 11
 # The lane buffer: chunks of `LANES` contacts, each field of a chunk `LANES` values wide (field f of
 # lane j at the chunk's start + f * LANES + j), so that a loop over a chunk's lanes reads and writes
 # consecutive values. Offsets are unsigned: numba then indexes without wrap-around checks, which keep
@@ -49,9 +51,6 @@ MANIFOLD_COLUMNS = 4
 # then what each pass gathers from the bodies (velocities, the approach of the centres along the
 # normal and the rotations since the narrow phase).
 LANES = 8
-# entries of the batches tuple (`contact_batches.batch_buffers`) the passes read: per chunk the lanes
-# filled and the largest point count, per slot its manifold and bodies
-FILL, CHUNK_POINTS, SLOT_MANIFOLD, SLOT_A, SLOT_B = 2, 3, 4, 5, 6
 (L_MA, L_IA, L_MB, L_IB, L_NX, L_NY, L_MU, L_E, L_RATE, L_MASS_SCALE, L_IMPULSE_SCALE,
  L_VAX, L_VAY, L_WA, L_VBX, L_VBY, L_WB, L_DN, L_CA, L_SA, L_CB, L_SB) = (
     np.uint64(f * LANES) for f in range(22))
@@ -112,10 +111,14 @@ def _bodies_approach(body, a, b, nx, ny, rna, rnb):
 
 
 @tick_kernel
-def load_bodies(v, w, inv_mass, inv_inertia, body):
+def load_bodies(bodies, h, body):
     """Fill the solver rows of the bodies: velocities, inverse masses, no displacement yet since the
-    narrow phase."""
+    narrow phase, and the factors exp(-c h) by which damping shrinks the velocities in a substep."""
+    v, w, inv_mass, inv_inertia = bodies.v, bodies.w, bodies.inv_mass, bodies.inv_inertia
+    linear, angular = bodies.linear_damping, bodies.angular_damping
     for i in range(v.shape[0]):
+        body[i, LINEAR_DECAY] = math.exp(-linear[i] * h) if linear[i] != 0.0 else 1.0
+        body[i, ANGULAR_DECAY] = math.exp(-angular[i] * h) if angular[i] != 0.0 else 1.0
         body[i, VX] = v[i, 0]
         body[i, VY] = v[i, 1]
         body[i, W] = w[i]
@@ -128,8 +131,9 @@ def load_bodies(v, w, inv_mass, inv_inertia, body):
 
 
 @tick_kernel
-def store_bodies(body, v, w, body_type):
+def store_bodies(body, bodies):
     """Copy velocities back to the dynamic bodies (the others' velocities are theirs to keep)."""
+    v, w, body_type = bodies.v, bodies.w, bodies.body_type
     for i in range(v.shape[0]):
         if body_type[i] != DYNAMIC:
             continue
@@ -139,14 +143,17 @@ def store_bodies(body, v, w, body_type):
 
 
 @tick_kernel
-def prepare(batches, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body, soft, stiff, lanes):
+def prepare(batches, n_chunks, manifolds, points, body, soft, stiff, lanes):
     """Fill the lanes of the scheduled contacts: inverse masses, normal, friction, restitution, softness,
     and per point the anchors' products with the normal and the tangent, the effective masses, the
     approach speed (for restitution) and the warm-start impulses. An empty lane, or a manifold's
     missing second point, is all zeros: it solves to no impulse. Contacts against an immovable body
     get the stiffer softness: only one side gives way. Returns the number of contacts that may bounce
     (restitution above 0)."""
-    fill, slot_manifold = batches[FILL], batches[SLOT_MANIFOLD]
+    fill, slot_manifold = batches.fill, batches.slot_manifold
+    m_a, m_b, manifold = manifolds.body_a, manifolds.body_b, manifolds.data
+    m_first, m_count = manifolds.first, manifolds.count
+    point = points.data
     bouncy = 0
     for c in range(n_chunks):
         for j in range(fill[c], LANES):
@@ -207,9 +214,10 @@ def prepare(batches, n_chunks, m_a, m_b, manifold, m_first, m_count, point, body
 
 
 @tick_kernel
-def store_impulses(batches, n_chunks, m_first, m_count, lanes, point):
+def store_impulses(batches, n_chunks, manifolds, lanes, points):
     """Copy the accumulated impulses back to the point rows (the next tick's warm start)."""
-    fill, slot_manifold = batches[FILL], batches[SLOT_MANIFOLD]
+    fill, slot_manifold = batches.fill, batches.slot_manifold
+    m_first, m_count, point = manifolds.first, manifolds.count, points.data
     for c in range(n_chunks):
         for j in range(fill[c]):
             m = slot_manifold[c * LANES + j]
@@ -223,7 +231,7 @@ def store_impulses(batches, n_chunks, m_first, m_count, lanes, point):
 def _gather(batches, c, body, lanes, poses):
     """Load the velocities of a chunk's bodies into its lanes; with `poses`, also the approach of the
     centres along the normal and the rotations since the narrow phase. Empty lanes keep their zeros."""
-    fill, slot_a, slot_b = batches[FILL], batches[SLOT_A], batches[SLOT_B]
+    fill, slot_a, slot_b = batches.fill, batches.slot_a, batches.slot_b
     for j in range(fill[c]):
         o = _lane(c, j)
         a = slot_a[c * LANES + j]
@@ -241,7 +249,7 @@ def _gather(batches, c, body, lanes, poses):
 def _scatter(batches, c, lanes, body):
     """Write a chunk's velocities back to its bodies, except immovable ones: the lanes of a chunk may
     share those, and they are never written, so that no contact waits for another through them."""
-    fill, slot_a, slot_b = batches[FILL], batches[SLOT_A], batches[SLOT_B]
+    fill, slot_a, slot_b = batches.fill, batches.slot_a, batches.slot_b
     for j in range(fill[c]):
         o = _lane(c, j)
         a = slot_a[c * LANES + j]
@@ -279,7 +287,7 @@ def _warm_start_lanes(c, lanes, points):
 @njit(cache=True, inline="always")
 def warm_start(batches, n_chunks, lanes, body):
     """Apply the accumulated impulses again at the start of a substep."""
-    chunk_points = batches[CHUNK_POINTS]
+    chunk_points = batches.chunk_points
     for c in range(n_chunks):
         _gather(batches, c, body, lanes, False)
         if chunk_points[c] == 2:  # a compile-time point count: the lane loop has no inner loop left
@@ -356,7 +364,7 @@ def solve(batches, n_chunks, lanes, body, inv_h, use_bias):
 
     The bodies' poses are gathered by the pass without bias (the relax pass, right after the positions
     moved) and serve the biased pass of the next substep too: the positions do not move in between."""
-    chunk_points = batches[CHUNK_POINTS]
+    chunk_points = batches.chunk_points
     for c in range(n_chunks):
         _gather(batches, c, body, lanes, not use_bias)
         if chunk_points[c] == 2:
@@ -370,7 +378,7 @@ def solve(batches, n_chunks, lanes, body, inv_h, use_bias):
 def restitute(batches, n_chunks, lanes, body, threshold):
     """Bounce: set the normal speed to -e times the approach speed measured before solving. Few
     contacts bounce, so this pass works lane by lane on the body rows."""
-    fill, slot_a, slot_b = batches[FILL], batches[SLOT_A], batches[SLOT_B]
+    fill, slot_a, slot_b = batches.fill, batches.slot_a, batches.slot_b
     for c in range(n_chunks):
         for j in range(fill[c]):
             o = _lane(c, j)

@@ -1,49 +1,51 @@
-"""Narrow phase: contact manifolds of up to two points for every shape pair.
+"""Contact manifolds of two convex pieces: up to two points, a normal from the first piece to the second.
 
-Boxes are 4-vertex polygons. Polygon pairs use the separating axis test (the axis of greatest
-separation over both polygons' edge normals), then clip the incident edge against the reference
-edge's side planes (Sutherland-Hodgman on one segment), as Box2D does. Circles against polygons find
-the edge of greatest separation of the centre, which stays right when the centre is inside. Points
-are reported while their separation is below `margin` (speculative contacts, so that an approaching
-body is caught before it overlaps). Each point is placed midway between the two surfaces and carries
-a feature id that stays the same while the same edges touch: that is what warm starting matches.
+Pieces are convex polygons with a radius (circles one vertex, capsules and segments two). Polygon pairs
+use the separating axis test (the axis of greatest separation over both pieces' edge normals), then
+clip the incident edge against the reference edge's side planes (Sutherland-Hodgman on one segment),
+as Box2D does; radii move the surfaces out along the normal. A circle against a polygon takes the edge
+of greatest separation of its centre, which stays right when the centre is inside. Points are reported
+while their separation is below `margin` (speculative contacts, so that an approaching body is caught
+before it overlaps). Each point is placed midway between the two surfaces and carries a feature id of
+8 bits that stays the same while the same features touch: that is what warm starting matches.
 
-The normal of a manifold always points from body a to body b.
+Chain segments collide on the side the other piece lies on (its separation is the greater there) and
+know their neighbours: a normal that a neighbouring segment should give is not given twice, and a
+normal that points into the chain at a joint is snapped to the segment's own (Box2D's "ghost
+collisions", https://box2d.org/posts/2020/06/ghost-collisions/). So a body slides and rolls across the
+joints of a chain as across one straight or curved surface.
+
+The routines write one pair's manifold into a `Collision` record and return its point count.
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
-from rustycs.broad_phase import BODY_BITS, BODY_MASK, hitboxes_overlap
-from rustycs.contact_solver import (
-    FRICTION,
-    MANIFOLD_COLUMNS,
-    NORMAL_IMPULSE,
-    NX,
-    NY,
-    POINT_COLUMNS,
-    RAX,
-    RAY,
-    RBX,
-    RBY,
-    RESTITUTION,
-    SEPARATION,
-    TANGENT_IMPULSE,
-)
-from rustycs.shapes import CIRCLE, POLYGON
-from rustycs.tick_kernel import tick_kernel
+from rustycs.constants import CHAIN_ANGLE_TOLERANCE, REFERENCE_TOLERANCE
+from rustycs.pieces import OPEN_END, OPEN_START
 
-LINEAR_SLOP = 0.005
-FEATURE_BITS = 8  # a point's key: (pair key << FEATURE_BITS) | feature id
-REFERENCE_TOLERANCE = 0.1 * LINEAR_SLOP
+
+class Collision(NamedTuple):
+    """One pair's manifold as the routines write it."""
+
+    normal: np.ndarray  # (2,) unit, from the first piece to the second
+    points: np.ndarray  # (2, 2) world points midway between the surfaces
+    separations: np.ndarray  # (2,) m, negative where the pieces overlap
+    ids: np.ndarray  # (2,) int64 feature ids
+
+
+@njit(cache=True)
+def new_collision():
+    return Collision(np.zeros(2), np.zeros((2, 2)), np.zeros(2), np.zeros(2, np.int64))
 
 
 @njit(cache=True, inline="always")
-def collide_circles(xa, ya, ra, xb, yb, rb, margin, normal, points, separations, ids):
+def collide_circles(xa, ya, ra, xb, yb, rb, margin, out):
     dx = xb - xa
     dy = yb - ya
     dist = math.sqrt(dx * dx + dy * dy)
@@ -56,19 +58,19 @@ def collide_circles(xa, ya, ra, xb, yb, rb, margin, normal, points, separations,
     else:
         nx = 0.0
         ny = 1.0
-    normal[0] = nx
-    normal[1] = ny
+    out.normal[0] = nx
+    out.normal[1] = ny
     # midway between the two surfaces
-    points[0, 0] = 0.5 * ((xa + ra * nx) + (xb - rb * nx))
-    points[0, 1] = 0.5 * ((ya + ra * ny) + (yb - rb * ny))
-    separations[0] = sep
-    ids[0] = 0
+    out.points[0, 0] = 0.5 * ((xa + ra * nx) + (xb - rb * nx))
+    out.points[0, 1] = 0.5 * ((ya + ra * ny) + (yb - rb * ny))
+    out.separations[0] = sep
+    out.ids[0] = 0
     return 1
 
 
 @njit(cache=True, inline="always")
-def collide_polygon_circle(verts, normals, counts, i, cx, cy, r, margin, normal, points, separations, ids):
-    """Polygon i against a circle; the normal points from the polygon to the circle."""
+def collide_polygon_circle(verts, normals, counts, i, rp, cx, cy, r, margin, out):
+    """Piece i (radius rp) against a circle; the normal points from the piece to the circle."""
     count = counts[i]
     best = -math.inf
     edge = 0
@@ -77,7 +79,7 @@ def collide_polygon_circle(verts, normals, counts, i, cx, cy, r, margin, normal,
         if s > best:
             best = s
             edge = k
-    if best - r > margin:
+    if best - r - rp > margin:
         return 0
     k2 = edge + 1 if edge + 1 < count else 0
     v1x, v1y = verts[i, edge, 0], verts[i, edge, 1]
@@ -90,7 +92,7 @@ def collide_polygon_circle(verts, normals, counts, i, cx, cy, r, margin, normal,
         dx = cx - vx
         dy = cy - vy
         dist = math.sqrt(dx * dx + dy * dy)
-        sep = dist - r
+        sep = dist - r - rp
         if sep > margin:
             return 0
         nx = dx / dist
@@ -100,21 +102,21 @@ def collide_polygon_circle(verts, normals, counts, i, cx, cy, r, margin, normal,
         # face region (also when the centre is inside: push out through the nearest face)
         nx = normals[i, edge, 0]
         ny = normals[i, edge, 1]
-        sep = best - r
+        sep = best - r - rp
         ax = cx - best * nx
         ay = cy - best * ny
-    normal[0] = nx
-    normal[1] = ny
-    points[0, 0] = 0.5 * (ax + cx - r * nx)
-    points[0, 1] = 0.5 * (ay + cy - r * ny)
-    separations[0] = sep
-    ids[0] = 0
+    out.normal[0] = nx
+    out.normal[1] = ny
+    out.points[0, 0] = 0.5 * (ax + rp * nx + cx - r * nx)
+    out.points[0, 1] = 0.5 * (ay + rp * ny + cy - r * ny)
+    out.separations[0] = sep
+    out.ids[0] = 0
     return 1
 
 
 @njit(cache=True, inline="always")
 def _max_separation(verts, normals, counts, a, b):
-    """Edge of polygon a with the greatest separation of polygon b's vertices from it.
+    """Edge of piece a with the greatest separation of piece b's vertices from it.
 
     Written without data-dependent branches in the inner loop (min, not if): with random polygons
     those branches are mispredicted often enough to dominate the test.
@@ -136,22 +138,23 @@ def _max_separation(verts, normals, counts, a, b):
 
 
 @njit(cache=True, inline="always")
-def _box_axes(verts, normals, x, i):
+def _box_axes(verts, normals, centre, i):
     """A box's distances from its centre to its faces 0 and 1, which are also those to faces 2 and 3
     (a box's vertices run from its lower left corner, counter-clockwise, so face k + 2 is opposite
     face k)."""
-    h0 = normals[i, 0, 0] * (verts[i, 0, 0] - x[i, 0]) + normals[i, 0, 1] * (verts[i, 0, 1] - x[i, 1])
-    h1 = normals[i, 1, 0] * (verts[i, 1, 0] - x[i, 0]) + normals[i, 1, 1] * (verts[i, 1, 1] - x[i, 1])
+    cx, cy = centre[i, 0], centre[i, 1]
+    h0 = normals[i, 0, 0] * (verts[i, 0, 0] - cx) + normals[i, 0, 1] * (verts[i, 0, 1] - cy)
+    h1 = normals[i, 1, 0] * (verts[i, 1, 0] - cx) + normals[i, 1, 1] * (verts[i, 1, 1] - cy)
     return h0, h1
 
 
 @njit(cache=True, inline="always")
-def _box_max_separation(normals, x, a, ha0, ha1, b, hb0, hb1):
+def _box_max_separation(normals, centre, a, ha0, ha1, b, hb0, hb1):
     """`_max_separation` for two boxes, with a quarter of the projections: the lowest point of box b
     along a normal n lies |n.e0| hb0 + |n.e1| hb1 below its centre (e0, e1 its face normals, hb0, hb1 its
     distances to them), and each of a's two axes serves a pair of opposite faces."""
-    dx = x[b, 0] - x[a, 0]
-    dy = x[b, 1] - x[a, 1]
+    dx = centre[b, 0] - centre[a, 0]
+    dy = centre[b, 1] - centre[a, 1]
     best = -math.inf
     edge = 0
     for k in range(4):
@@ -159,8 +162,8 @@ def _box_max_separation(normals, x, a, ha0, ha1, b, hb0, hb1):
         ny = normals[a, k % 2, 1]
         reach = (abs(nx * normals[b, 0, 0] + ny * normals[b, 0, 1]) * hb0
                  + abs(nx * normals[b, 1, 0] + ny * normals[b, 1, 1]) * hb1)
-        centre = nx * dx + ny * dy
-        s = (centre if k < 2 else -centre) - (ha0 if k % 2 == 0 else ha1) - reach
+        centre_gap = nx * dx + ny * dy
+        s = (centre_gap if k < 2 else -centre_gap) - (ha0 if k % 2 == 0 else ha1) - reach
         if s > best:
             best = s
             edge = k
@@ -180,27 +183,73 @@ def _clip(px, py, qx, qy, dp, dq, lo, hi):
 
 
 @njit(cache=True, inline="always")
-def collide_polygons(verts, normals, counts, x, boxes, a, b, margin, normal, points, separations, ids):
-    """Polygons a and b (with `boxes`, both boxes); the normal points from a to b."""
+def _clip_edges(r1x, r1y, r2x, r2y, nx, ny, p1x, p1y, p2x, p2y, r_ref, r_inc, margin, base, flip, out):
+    """Clip the incident edge p1 -> p2 (running against the reference edge) to the slab between the
+    reference edge r1 -> r2's side planes, and keep the points within `margin` of the reference
+    surface; the normal is the reference's outward n, reversed when `flip`. Point ids are
+    base | slot."""
+    # the reference edge's direction: its outward normal turned a quarter back (counter-clockwise winding)
+    tx = -ny
+    ty = nx
+    lo = r1x * tx + r1y * ty
+    hi = r2x * tx + r2y * ty
+    d1 = p1x * tx + p1y * ty
+    d2 = p2x * tx + p2y * ty
+    if d1 == d2:
+        return 0
+    # the incident edge runs against the reference edge, so d1 > d2 normally
+    if (d1 < lo and d2 < lo) or (d1 > hi and d2 > hi):
+        return 0
+    q1x, q1y = _clip(p1x, p1y, p2x, p2y, d1, d2, lo, hi)
+    q2x, q2y = _clip(p2x, p2y, p1x, p1y, d2, d1, lo, hi)
+    radius = r_ref + r_inc
+    count = 0
+    for slot in range(2):
+        qx = q1x if slot == 0 else q2x
+        qy = q1y if slot == 0 else q2y
+        core = nx * (qx - r1x) + ny * (qy - r1y)
+        sep = core - radius
+        if sep > margin:
+            continue
+        # midway between the reference surface (r_ref out) and the incident one (r_inc in)
+        shift = 0.5 * (r_ref - r_inc - core)
+        out.points[count, 0] = qx + shift * nx
+        out.points[count, 1] = qy + shift * ny
+        out.separations[count] = sep
+        out.ids[count] = base | slot
+        count += 1
+    if flip:
+        out.normal[0] = -nx
+        out.normal[1] = -ny
+    else:
+        out.normal[0] = nx
+        out.normal[1] = ny
+    return count
+
+
+@njit(cache=True, inline="always")
+def collide_polygons(verts, normals, counts, centre, boxes, a, ra, b, rb, margin, out):
+    """Pieces a and b with radii ra and rb (with `boxes`, two boxes); the normal points from a to b."""
+    radius = ra + rb
     if boxes:
-        ha0, ha1 = _box_axes(verts, normals, x, a)
-        hb0, hb1 = _box_axes(verts, normals, x, b)
-        edge_a, sep_a = _box_max_separation(normals, x, a, ha0, ha1, b, hb0, hb1)
-        if sep_a > margin:
+        ha0, ha1 = _box_axes(verts, normals, centre, a)
+        hb0, hb1 = _box_axes(verts, normals, centre, b)
+        edge_a, sep_a = _box_max_separation(normals, centre, a, ha0, ha1, b, hb0, hb1)
+        if sep_a - radius > margin:
             return 0
-        edge_b, sep_b = _box_max_separation(normals, x, b, hb0, hb1, a, ha0, ha1)
+        edge_b, sep_b = _box_max_separation(normals, centre, b, hb0, hb1, a, ha0, ha1)
     else:
         edge_a, sep_a = _max_separation(verts, normals, counts, a, b)
-        if sep_a > margin:
+        if sep_a - radius > margin:
             return 0
         edge_b, sep_b = _max_separation(verts, normals, counts, b, a)
-    if sep_b > margin:
+    if sep_b - radius > margin:
         return 0
     if sep_b > sep_a + REFERENCE_TOLERANCE:
-        r, ref, i = b, edge_b, a
+        r, ref, i, r_ref, r_inc = b, edge_b, a, rb, ra
         flip = 1
     else:
-        r, ref, i = a, edge_a, b
+        r, ref, i, r_ref, r_inc = a, edge_a, b, ra, rb
         flip = 0
     rc = counts[r]
     ic = counts[i]
@@ -216,120 +265,174 @@ def collide_polygons(verts, normals, counts, x, boxes, a, b, margin, normal, poi
             inc = k
     inc2 = inc + 1 if inc + 1 < ic else 0
     ref2 = ref + 1 if ref + 1 < rc else 0
-    r1x, r1y = verts[r, ref, 0], verts[r, ref, 1]
-    r2x, r2y = verts[r, ref2, 0], verts[r, ref2, 1]
-    # the reference edge's direction: its outward normal turned a quarter back (counter-clockwise winding)
-    tx = -ny
-    ty = nx
-    p1x, p1y = verts[i, inc, 0], verts[i, inc, 1]
-    p2x, p2y = verts[i, inc2, 0], verts[i, inc2, 1]
-    # clip the incident segment to the slab between the reference edge's side planes
-    lo = r1x * tx + r1y * ty
-    hi = r2x * tx + r2y * ty
-    d1 = p1x * tx + p1y * ty
-    d2 = p2x * tx + p2y * ty
-    if d1 == d2:
-        return 0
-    # the incident edge runs against the reference edge, so d1 > d2 normally
-    if (d1 < lo and d2 < lo) or (d1 > hi and d2 > hi):
-        return 0
-    q1x, q1y = _clip(p1x, p1y, p2x, p2y, d1, d2, lo, hi)
-    q2x, q2y = _clip(p2x, p2y, p1x, p1y, d2, d1, lo, hi)
-    base = (flip << 7) | (ref << 4) | (inc << 1)
-    count = 0
-    for slot in range(2):
-        qx = q1x if slot == 0 else q2x
-        qy = q1y if slot == 0 else q2y
-        sep = nx * (qx - r1x) + ny * (qy - r1y)
-        if sep > margin:
-            continue
-        points[count, 0] = qx - 0.5 * sep * nx
-        points[count, 1] = qy - 0.5 * sep * ny
-        separations[count] = sep
-        ids[count] = base | slot
-        count += 1
+    return _clip_edges(verts[r, ref, 0], verts[r, ref, 1], verts[r, ref2, 0], verts[r, ref2, 1], nx, ny,
+                       verts[i, inc, 0], verts[i, inc, 1], verts[i, inc2, 0], verts[i, inc2, 1], r_ref, r_inc,
+                       margin, (flip << 7) | (ref << 4) | (inc << 1), flip, out)
+
+
+# ------------------------------------------------------------------------------- chain segments
+
+@njit(cache=True, inline="always")
+def _unit(x, y):
+    length = math.sqrt(x * x + y * y)
+    return x / length, y / length
+
+
+@njit(cache=True, inline="always")
+def _chain_side(verts, normals, ghosts, open_ends, c, flip):
+    """Segment c's points, neighbours and open ends as seen from its side `flip` (0: the side its
+    normal 0 points to; 1: the other, with the segment's direction reversed)."""
+    v, g, ends = verts[c], ghosts[c], open_ends[c]
     if flip:
-        normal[0] = -nx
-        normal[1] = -ny
+        swapped = ((ends & OPEN_START) != 0) * OPEN_END | ((ends & OPEN_END) != 0) * OPEN_START
+        return (v[1, 0], v[1, 1], v[0, 0], v[0, 1], g[1, 0], g[1, 1], g[0, 0], g[0, 1], swapped,
+                -normals[c, 0, 0], -normals[c, 0, 1])
+    return (v[0, 0], v[0, 1], v[1, 0], v[1, 1], g[0, 0], g[0, 1], g[1, 0], g[1, 1], ends,
+            normals[c, 0, 0], normals[c, 0, 1])
+
+
+@njit(cache=True, inline="always")
+def collide_chain_circle(verts, normals, ghosts, open_ends, c, cx, cy, r, margin, out):
+    """Chain segment c against a circle; the normal points from the segment to the circle. The joint
+    with the previous segment belongs to that segment, and a centre over the next segment's face is
+    the next segment's."""
+    offset = normals[c, 0, 0] * (cx - verts[c, 0, 0]) + normals[c, 0, 1] * (cy - verts[c, 0, 1])
+    flip = 1 if offset < 0.0 else 0
+    p1x, p1y, p2x, p2y, _, _, g2x, g2y, ends, fnx, fny = _chain_side(verts, normals, ghosts, open_ends, c,
+                                                                     flip)
+    ex = p2x - p1x
+    ey = p2y - p1y
+    v = ex * (cx - p1x) + ey * (cy - p1y)
+    u = ex * (p2x - cx) + ey * (p2y - cy)
+    if v <= 0.0:
+        if not ends & OPEN_START:
+            return 0
+        ax, ay, feature = p1x, p1y, 1
+    elif u <= 0.0:
+        if not ends & OPEN_END and (g2x - p2x) * (cx - p2x) + (g2y - p2y) * (cy - p2y) > 0.0:
+            return 0
+        ax, ay, feature = p2x, p2y, 2
     else:
-        normal[0] = nx
-        normal[1] = ny
-    return count
+        f = v / (ex * ex + ey * ey)
+        ax, ay, feature = p1x + f * ex, p1y + f * ey, 0
+    dx = cx - ax
+    dy = cy - ay
+    dist = math.sqrt(dx * dx + dy * dy)
+    sep = dist - r
+    if sep > margin:
+        return 0
+    if dist > 1e-12:
+        nx = dx / dist
+        ny = dy / dist
+    else:
+        nx, ny = fnx, fny
+    out.normal[0] = nx
+    out.normal[1] = ny
+    out.points[0, 0] = 0.5 * (ax + cx - r * nx)
+    out.points[0, 1] = 0.5 * (ay + cy - r * ny)
+    out.separations[0] = sep
+    out.ids[0] = (flip << 7) | feature
+    return 1
 
 
-@njit(cache=True)
-def contact_buffers(capacity):
-    """Buffers the narrow phase fills, for up to `capacity` pairs: manifold rows (body a, body b,
-    first point, point count, normal/friction/restitution), point keys, world positions and solver
-    rows, and a pair's scratch (normal, points, separations, feature ids)."""
-    return (np.empty(capacity, np.int64), np.empty(capacity, np.int64), np.empty(capacity, np.int64),
-            np.empty(capacity, np.int64), np.empty((capacity, MANIFOLD_COLUMNS)),
-            np.empty(2 * capacity, np.int64), np.empty((2 * capacity, 2)),
-            np.zeros((2 * capacity, POINT_COLUMNS)),
-            np.zeros(2), np.zeros((2, 2)), np.zeros(2), np.zeros(2, np.int64))
+SKIP, ADMIT, SNAP = 0, 1, 2
 
 
-@tick_kernel
-def narrow_phase(pair_keys, x, hitbox, reach, kind, radius, nverts, world_verts, world_normals, friction,
-                 restitution, margin, contacts):
-    """Manifolds of the candidate pairs (keys (a << BODY_BITS) | b), in pair order, and their points in
-    feature order, written into `contacts` (from `contact_buffers`, for at least as many pairs).
+@njit(cache=True, inline="always")
+def _classify(mx, my, ex, ey, convex1, n0x, n0y, convex2, n2x, n2y):
+    """What a candidate normal m (from the segment, direction e) means at the segment's joints: ADMIT
+    where it lies in the segment's share of a convex joint's vertex region, SKIP where it belongs to
+    the neighbour, SNAP where the joint is concave or flat (the segment's own normal holds)."""
+    if mx * ex + my * ey <= 0.0:  # towards the segment's first point
+        if convex1:
+            return SKIP if mx * n0y - my * n0x > CHAIN_ANGLE_TOLERANCE else ADMIT
+        return SNAP
+    if convex2:
+        return SKIP if n2x * my - n2y * mx > CHAIN_ANGLE_TOLERANCE else ADMIT
+    return SNAP
 
-    A pair's points are kept within `margin` plus both bodies' travel in one tick (each body's reach is
-    the margin plus its travel), so a pair whose hitboxes (grown by the reach) do not overlap has none:
-    it is passed over (the broad phase's pairs are those of fat hitboxes). A point's key is its pair's
-    key and feature id packed into one int64; its solver row holds the anchors relative to both centres
-    of mass and the separation, with zero impulses. Returns (manifold count, point count).
-    """
-    m_a, m_b, m_first, m_count, manifold, p_key, p_point, point, normal, points, separations, ids = contacts
-    n_man = 0
-    n_pts = 0
-    for k in range(pair_keys.shape[0]):
-        a = pair_keys[k] >> BODY_BITS
-        b = pair_keys[k] & BODY_MASK
-        if not hitboxes_overlap(hitbox, a, b):
+
+@njit(cache=True, inline="always")
+def _min_offset(verts, counts, p, nx, ny, ox, oy):
+    """The least n . (v - o) over piece p's vertices, and the vertex that gives it."""
+    best = math.inf
+    which = 0
+    for k in range(counts[p]):
+        s = nx * (verts[p, k, 0] - ox) + ny * (verts[p, k, 1] - oy)
+        if s < best:
+            best = s
+            which = k
+    return best, which
+
+
+@njit(cache=True, inline="always")
+def collide_chain_polygon(verts, normals, counts, ghosts, open_ends, c, p, rp, margin, out):
+    """Chain segment c against piece p (radius rp: a polygon, a capsule, a segment or another chain's
+    segment); the normal points from the segment to the piece.
+
+    The candidate axes are the segment's normal on the piece's side, the normals of convex
+    neighbouring segments (the neighbour gives those contacts: none here) and the piece's edge
+    normals that `_classify` admits. The greatest separation wins, then the incident edge is clipped
+    to the reference edge as for two polygons."""
+    nx, ny, ox, oy = normals[c, 0, 0], normals[c, 0, 1], verts[c, 0, 0], verts[c, 0, 1]
+    front, _ = _min_offset(verts, counts, p, nx, ny, ox, oy)
+    back, _ = _min_offset(verts, counts, p, -nx, -ny, ox, oy)
+    flip = 1 if back > front else 0
+    p1x, p1y, p2x, p2y, g1x, g1y, g2x, g2y, ends, n1x, n1y = _chain_side(verts, normals, ghosts, open_ends, c,
+                                                                         flip)
+    ex, ey = _unit(p2x - p1x, p2y - p1y)
+    e0x, e0y = _unit(p1x - g1x, p1y - g1y)
+    e2x, e2y = _unit(g2x - p2x, g2y - p2y)
+    open1 = (ends & OPEN_START) != 0
+    open2 = (ends & OPEN_END) != 0
+    convex1 = open1 or e0x * ey - e0y * ex >= CHAIN_ANGLE_TOLERANCE
+    convex2 = open2 or ex * e2y - ey * e2x >= CHAIN_ANGLE_TOLERANCE
+    n0x, n0y = (e0y, -e0x) if convex1 else (n1x, n1y)
+    n2x, n2y = (e2y, -e2x) if convex2 else (n1x, n1y)
+
+    edge_separation, incident = _min_offset(verts, counts, p, n1x, n1y, p1x, p1y)
+    if convex1 and not open1:
+        s0, _ = _min_offset(verts, counts, p, n0x, n0y, p1x, p1y)
+        if s0 > edge_separation:
+            edge_separation, incident = s0, -1
+    if convex2 and not open2:
+        s2, _ = _min_offset(verts, counts, p, n2x, n2y, p2x, p2y)
+        if s2 > edge_separation:
+            edge_separation, incident = s2, -1
+    polygon_separation = -math.inf
+    reference = -1
+    for k in range(counts[p]):
+        mx, my = normals[p, k, 0], normals[p, k, 1]
+        if _classify(-mx, -my, ex, ey, convex1, n0x, n0y, convex2, n2x, n2y) != ADMIT:
             continue
-        within = reach[a] + reach[b] - margin
-        # dispatch written out here rather than in a function taking every array: a call passing a
-        # dozen arrays per pair cost more than the collision test itself
-        if kind[a] == CIRCLE and kind[b] == CIRCLE:
-            count = collide_circles(x[a, 0], x[a, 1], radius[a], x[b, 0], x[b, 1], radius[b],
-                                    within, normal, points, separations, ids)
-        elif kind[b] == CIRCLE:
-            count = collide_polygon_circle(world_verts, world_normals, nverts, a, x[b, 0], x[b, 1],
-                                           radius[b], within, normal, points, separations, ids)
-        elif kind[a] == CIRCLE:
-            count = collide_polygon_circle(world_verts, world_normals, nverts, b, x[a, 0], x[a, 1],
-                                           radius[a], within, normal, points, separations, ids)
-            normal[0] = -normal[0]
-            normal[1] = -normal[1]
-        else:
-            boxes = kind[a] != POLYGON and kind[b] != POLYGON
-            count = collide_polygons(world_verts, world_normals, nverts, x, boxes, a, b, within,
-                                     normal, points, separations, ids)
-        if count == 0:
-            continue
-        swap = count == 2 and ids[0] > ids[1]
-        m_a[n_man] = a
-        m_b[n_man] = b
-        manifold[n_man, NX] = normal[0]
-        manifold[n_man, NY] = normal[1]
-        manifold[n_man, FRICTION] = 0.5 * (friction[a] + friction[b])
-        manifold[n_man, RESTITUTION] = 0.5 * (restitution[a] + restitution[b])
-        m_first[n_man] = n_pts
-        m_count[n_man] = count
-        n_man += 1
-        for j in range(count):
-            src = 1 - j if swap else j
-            p_key[n_pts] = (pair_keys[k] << FEATURE_BITS) | ids[src]
-            p_point[n_pts, 0] = points[src, 0]
-            p_point[n_pts, 1] = points[src, 1]
-            point[n_pts, RAX] = points[src, 0] - x[a, 0]
-            point[n_pts, RAY] = points[src, 1] - x[a, 1]
-            point[n_pts, RBX] = points[src, 0] - x[b, 0]
-            point[n_pts, RBY] = points[src, 1] - x[b, 1]
-            point[n_pts, SEPARATION] = separations[src]
-            point[n_pts, NORMAL_IMPULSE] = 0.0
-            point[n_pts, TANGENT_IMPULSE] = 0.0
-            n_pts += 1
-    return n_man, n_pts
+        vx, vy = verts[p, k, 0], verts[p, k, 1]
+        s = min(mx * (p1x - vx) + my * (p1y - vy), mx * (p2x - vx) + my * (p2y - vy))
+        if s > polygon_separation:
+            polygon_separation, reference = s, k
+    if max(edge_separation, polygon_separation) - rp > margin:
+        return 0
+    base = flip << 7
+    if polygon_separation > edge_separation + REFERENCE_TOLERANCE:
+        # a face of the piece is the reference, the segment incident; unless a neighbour is more so
+        k2 = reference + 1 if reference + 1 < counts[p] else 0
+        mx, my = normals[p, reference, 0], normals[p, reference, 1]
+        ax, ay = verts[p, reference, 0], verts[p, reference, 1]
+        deeper_first = mx * (p1x - ax) + my * (p1y - ay) < mx * (p2x - ax) + my * (p2y - ay)
+        own = n1x * mx + n1y * my
+        if (deeper_first and n0x * mx + n0y * my < own) or (not deeper_first and n2x * mx + n2y * my < own):
+            return 0
+        return _clip_edges(ax, ay, verts[p, k2, 0], verts[p, k2, 1], mx, my, p1x, p1y, p2x, p2y, rp, 0.0,
+                           margin, base | (1 << 6) | (reference << 3), 1, out)
+    if incident < 0:
+        return 0  # a neighbouring segment gives this contact
+    # the segment is the reference; the incident edge is the one beside the deepest vertex that faces it most
+    before = incident - 1 if incident > 0 else counts[p] - 1
+    if normals[p, before, 0] * n1x + normals[p, before, 1] * n1y < (normals[p, incident, 0] * n1x
+                                                                     + normals[p, incident, 1] * n1y):
+        first = before
+    else:
+        first = incident
+    second = first + 1 if first + 1 < counts[p] else 0
+    return _clip_edges(p1x, p1y, p2x, p2y, n1x, n1y, verts[p, first, 0], verts[p, first, 1],
+                       verts[p, second, 0], verts[p, second, 1], 0.0, rp, margin, base | (first << 3), 0, out)
+

@@ -1,4 +1,9 @@
-"""Forces, attractors and semi-implicit Euler integration of the bodies."""
+"""Semi-implicit Euler integration of the bodies, with forces, attractors and damping; the bounds and
+the check for a non-finite state.
+
+Damping multiplies the velocities by exp(-c h) each substep of h seconds, so a free body's speed decays
+exactly as v0 exp(-c t).
+"""
 
 from __future__ import annotations
 
@@ -7,42 +12,29 @@ import math
 from numba import njit
 
 from rustycs.body_types import DYNAMIC, STATIC
-from rustycs.contact_solver import COS, DX, DY, SIN, VX, VY, W
-
-
-@njit(cache=True)
-def attraction(px, py, att_pos, att_gm, att_range, att_min_distance):
-    """Acceleration towards the attractors: G*M / max(d, min_distance)^2, whatever the body's mass;
-    a local attractor acts only within its range."""
-    ax = 0.0
-    ay = 0.0
-    for k in range(att_gm.shape[0]):
-        dx = att_pos[k, 0] - px
-        dy = att_pos[k, 1] - py
-        d = math.sqrt(dx * dx + dy * dy)
-        if d > att_range[k] or d == 0.0:
-            continue
-        dc = max(d, att_min_distance[k])
-        g = att_gm[k] / (dc * dc * d)
-        ax += g * dx
-        ay += g * dy
-    return ax, ay
+from rustycs.contact_solver import ANGULAR_DECAY, COS, DX, DY, LINEAR_DECAY, SIN, VX, VY, W
+from rustycs.forces import attraction
 
 
 @njit(cache=True, inline="always")
-def integrate_velocities(body, x, body_type, active, gravity, att_pos, att_gm, att_range,
-                         att_min_distance, h):
+def integrate_velocities(body, bodies, forces, h):
+    x, body_type, active, gravity_scale = bodies.x, bodies.body_type, bodies.active, bodies.gravity_scale
+    gx, gy = forces.gravity[0], forces.gravity[1]
     for i in range(x.shape[0]):
         if body_type[i] != DYNAMIC or not active[i]:
             continue
-        ax, ay = attraction(x[i, 0], x[i, 1], att_pos, att_gm, att_range, att_min_distance)
-        body[i, VX] += h * (gravity[0] + ax)
-        body[i, VY] += h * (gravity[1] + ay)
+        ax, ay = attraction(x[i, 0], x[i, 1], forces)
+        scale = gravity_scale[i]
+        decay = body[i, LINEAR_DECAY]
+        body[i, VX] = (body[i, VX] + h * (scale * gx + ax)) * decay
+        body[i, VY] = (body[i, VY] + h * (scale * gy + ay)) * decay
+        body[i, W] *= body[i, ANGULAR_DECAY]
 
 
 @njit(cache=True, inline="always")
-def integrate_positions(x, angle, body, body_type, active, h):
+def integrate_positions(body, bodies, h):
     """Move bodies and keep their displacement since the narrow phase (for the contact solver)."""
+    x, angle, body_type, active = bodies.x, bodies.angle, bodies.body_type, bodies.active
     for i in range(x.shape[0]):
         if body_type[i] == STATIC or not active[i]:
             continue
@@ -64,8 +56,10 @@ def integrate_positions(x, angle, body, body_type, active, h):
 
 
 @njit(cache=True)
-def first_non_finite(x, angle, v, w, body_type, active):
+def first_non_finite(bodies):
     """Index of the first moving body with a non-finite state, or -1."""
+    x, angle, v, w = bodies.x, bodies.angle, bodies.v, bodies.w
+    body_type, active = bodies.body_type, bodies.active
     for i in range(x.shape[0]):
         if body_type[i] == STATIC or not active[i]:
             continue
@@ -76,8 +70,9 @@ def first_non_finite(x, angle, v, w, body_type, active):
 
 
 @njit(cache=True)
-def apply_bounds(x, v, w, body_type, active, bounds):
+def apply_bounds(bodies, bounds):
     """Deactivate dynamic bodies whose centre left the bounds; return how many left this tick."""
+    x, v, w, body_type, active = bodies.x, bodies.v, bodies.w, bodies.body_type, bodies.active
     left = 0
     for i in range(x.shape[0]):
         if body_type[i] != DYNAMIC or not active[i]:

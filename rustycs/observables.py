@@ -8,32 +8,18 @@ import numpy as np
 from numba import njit
 
 from rustycs.body_types import DYNAMIC
+from rustycs.forces import attractor_potential
+from rustycs.narrow_phase import NORMAL_IMPULSE, SEPARATION
 
 
 @njit(cache=True)
-def attractor_potential(px, py, att_pos, att_gm, att_range, att_min_distance):
-    """Potential per unit mass consistent with `motion.attraction` (softened core, zero beyond range)."""
-    u = 0.0
-    for k in range(att_gm.shape[0]):
-        dx = att_pos[k, 0] - px
-        dy = att_pos[k, 1] - py
-        d = math.sqrt(dx * dx + dy * dy)
-        if d > att_range[k]:
-            continue
-        dmin = att_min_distance[k]
-        gm = att_gm[k]
-        if d >= dmin:
-            u -= gm / d
-        else:
-            u -= gm / dmin - gm * (d - dmin) / (dmin * dmin)
-        if math.isfinite(att_range[k]):
-            u += gm / max(att_range[k], dmin)
-    return u
-
-
-@njit(cache=True)
-def energies_and_momenta(x, v, w, mass, inertia, inv_inertia, body_type, active, gravity,
-                         att_pos, att_gm, att_range, att_min_distance):
+def energies_and_momenta(bodies, forces):
+    """Kinetic and potential energy, linear and angular momentum (about the origin) of the active
+    dynamic bodies."""
+    x, v, w, mass, inertia, inv_inertia, body_type, active = (bodies.x, bodies.v, bodies.w, bodies.mass,
+                                                              bodies.inertia, bodies.inv_inertia,
+                                                              bodies.body_type, bodies.active)
+    gravity, gravity_scale = forces.gravity, bodies.gravity_scale
     kinetic = 0.0
     potential = 0.0
     momentum = np.zeros(2)
@@ -49,29 +35,30 @@ def energies_and_momenta(x, v, w, mass, inertia, inv_inertia, body_type, active,
             angular += inertia[i] * w[i]
         momentum[0] += m * v[i, 0]
         momentum[1] += m * v[i, 1]
-        potential -= m * (gravity[0] * x[i, 0] + gravity[1] * x[i, 1])
-        potential += m * attractor_potential(x[i, 0], x[i, 1], att_pos, att_gm, att_range, att_min_distance)
+        potential -= m * gravity_scale[i] * (gravity[0] * x[i, 0] + gravity[1] * x[i, 1])
+        potential += m * attractor_potential(x[i, 0], x[i, 1], forces)
     return kinetic, potential, momentum, angular
 
 
 @njit(cache=True)
-def contact_statistics(separation, normal_impulse):
-    """Touching points (overlapping or carrying load) and the deepest overlap among the last tick's
+def contact_statistics(points, n_points):
+    """Touching points (overlapping or carrying load) and the deepest overlap among the first n_points
     contact points, without building the contact list."""
+    data = points.data
     count = 0
     deepest = 0.0
-    for p in range(separation.shape[0]):
-        if separation[p] <= 0.0 or normal_impulse[p] > 0.0:
+    for p in range(n_points):
+        if data[p, SEPARATION] <= 0.0 or data[p, NORMAL_IMPULSE] > 0.0:
             count += 1
-            deepest = max(deepest, -separation[p])
+            deepest = max(deepest, -data[p, SEPARATION])
     return count, deepest
 
 
 @njit(cache=True, inline="always")
-def body_origin(x, angle, origin_offset, i):
+def body_origin(x, angle, origin, i):
     """Body i's origin: its centre of mass plus the rotated offset to the origin."""
-    ox = origin_offset[i, 0]
-    oy = origin_offset[i, 1]
+    ox = origin[i, 0]
+    oy = origin[i, 1]
     if ox == 0.0 and oy == 0.0:  # circles, boxes: no turning needed
         return x[i, 0], x[i, 1]
     c = math.cos(angle[i])
@@ -80,9 +67,9 @@ def body_origin(x, angle, origin_offset, i):
 
 
 @njit(cache=True)
-def body_origins(x, angle, origin_offset):
+def body_origins(bodies):
     """Every body's origin."""
-    out = np.empty_like(x)
-    for i in range(x.shape[0]):
-        out[i, 0], out[i, 1] = body_origin(x, angle, origin_offset, i)
+    out = np.empty_like(bodies.x)
+    for i in range(out.shape[0]):
+        out[i, 0], out[i, 1] = body_origin(bodies.x, bodies.angle, bodies.origin, i)
     return out

@@ -43,17 +43,17 @@ def frame_buffer(capacity: int, bodies: int) -> dict[str, np.ndarray]:
 
 
 @njit(cache=True)
-def record_frame(frames, k, tick, x, angle, v, w, active, body_type, mass, inertia, inv_inertia,
-                 origin_offset, gravity, att_pos, att_gm, att_range, att_min_distance, separation,
-                 normal_impulse):
+def record_frame(frames, k, tick, bodies, forces, points, n_points):
     """Write the current state into row k of `frames` (the buffer's arrays as a tuple, in FRAME_FIELDS
-    order); `separation` and `normal_impulse` are the last tick's contact points."""
+    order); `points` are the last tick's contact points."""
     (ticks, position, velocity, angles, angular_velocity, is_active, kinetic, potential, momentum, angular,
      contact_count, max_penetration, max_speed) = frames
+    x, angle, v, w, active, body_type, origin = (bodies.x, bodies.angle, bodies.v, bodies.w, bodies.active,
+                                                 bodies.body_type, bodies.origin)
     ticks[k] = tick
     fastest = 0.0
     for i in range(x.shape[0]):
-        position[k, i, 0], position[k, i, 1] = body_origin(x, angle, origin_offset, i)
+        position[k, i, 0], position[k, i, 1] = body_origin(x, angle, origin, i)
         velocity[k, i, 0] = v[i, 0]
         velocity[k, i, 1] = v[i, 1]
         angles[k, i] = angle[i]
@@ -62,11 +62,10 @@ def record_frame(frames, k, tick, x, angle, v, w, active, body_type, mass, inert
         if body_type[i] == DYNAMIC and active[i]:
             fastest = max(fastest, v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1])
     max_speed[k] = np.sqrt(fastest)
-    ke, pe, p, am = energies_and_momenta(x, v, w, mass, inertia, inv_inertia, body_type, active, gravity,
-                                         att_pos, att_gm, att_range, att_min_distance)
+    ke, pe, p, am = energies_and_momenta(bodies, forces)
     kinetic[k] = ke
     potential[k] = pe
     momentum[k, 0] = p[0]
     momentum[k, 1] = p[1]
     angular[k] = am
-    contact_count[k], max_penetration[k] = contact_statistics(separation, normal_impulse)
+    contact_count[k], max_penetration[k] = contact_statistics(points, n_points)

@@ -1,118 +1,158 @@
-"""Shapes and their mass properties.
+"""The shapes a body is made of, as a user describes them.
 
-Boxes and polygons are stored as convex polygons of at most MAX_VERTICES counter-clockwise vertices
-about the centre of mass; a circle is a radius. Mass properties are exact closed forms: the area
-centroid is the centre of mass (not the vertex average), and the inertia is the area moment about it.
+Every shape sits on its body at a body-local `offset` and `angle` and may carry its own material (None:
+the body's) and be a `sensor` (it detects overlaps, pushes nothing and adds no mass). Circles, boxes,
+polygons and capsules have area, hence mass; segments and chains are lines: they give static and
+kinematic bodies their outline (terrain, ramps, containers), or line a dynamic body beside shapes with
+area. `rustycs.pieces` turns each shape into the convex pieces the kernels collide.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
-import numpy as np
+from rustycs.materials import Material
 
-MAX_VERTICES = 8
+MAX_CHAIN_POINTS = 4096
 
-CIRCLE, AABB, OBB, POLYGON = 0, 1, 2, 3
-KIND_NAMES = ("circle", "aabb", "obb", "polygon")
+
+@dataclass(frozen=True, kw_only=True)
+class _Placed:
+    """Where a shape sits on its body, what it is made of, and whether it only senses."""
+
+    offset: tuple[float, float] = (0.0, 0.0)
+    angle: float = 0.0
+    material: Material | str | None = None
+    sensor: bool = False
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "offset", (float(self.offset[0]), float(self.offset[1])))
+        object.__setattr__(self, "angle", float(self.angle))
+        if not all(map(math.isfinite, (*self.offset, self.angle))):
+            raise ValueError("a shape's offset and angle must be finite")
+
+    @property
+    def has_area(self) -> bool:
+        """Whether the shape adds mass to its body (sensors and lines do not)."""
+        return not self.sensor
+
+
+def _points(points, what: str, least: int, most: int) -> tuple[tuple[float, float], ...]:
+    found = tuple((float(x), float(y)) for x, y in points)
+    if not least <= len(found) <= most:
+        raise ValueError(f"a {what} has {least} to {most} points, this one has {len(found)}")
+    if not all(math.isfinite(c) for p in found for c in p):
+        raise ValueError(f"a {what}'s points must be finite")
+    return found
 
 
 @dataclass(frozen=True)
-class Circle:
+class Circle(_Placed):
+    """A circle centred on its offset."""
+
     radius: float
 
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if not (math.isfinite(self.radius) and self.radius > 0):
+            raise ValueError("a circle's radius must be > 0")
+
 
 @dataclass(frozen=True)
-class Box:
-    """A width x height box centred on the body origin; `rotates=False` makes it an aabb."""
+class Box(_Placed):
+    """A width x height box centred on its offset. `rotates=False` makes it an aabb: its body never
+    rotates, so the box stays axis-aligned (and its angle must be 0)."""
 
     width: float
     height: float
     rotates: bool = True
 
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if not (self.width > 0 and self.height > 0 and math.isfinite(self.width * self.height)):
+            raise ValueError("a box's width and height must be > 0")
+        if not self.rotates and self.angle != 0.0:
+            raise ValueError("an aabb never rotates, so its angle must be 0")
+
 
 @dataclass(frozen=True)
-class Polygon:
-    """A convex polygon, vertices body-local about the body origin, either winding."""
+class Polygon(_Placed):
+    """A simple polygon of 3 to 256 vertices in the shape's frame, convex or not, either winding; it is
+    collided as convex pieces of at most 8 vertices (`rustycs.polygon.convex_pieces`)."""
 
     vertices: tuple[tuple[float, float], ...]
 
-    def __init__(self, vertices) -> None:
-        object.__setattr__(self, "vertices", tuple((float(x), float(y)) for x, y in vertices))
+    def __post_init__(self) -> None:
+        from rustycs.polygon import polygon_problem
 
-
-Shape = Circle | Box | Polygon
+        super().__post_init__()
+        object.__setattr__(self, "vertices", tuple((float(x), float(y)) for x, y in self.vertices))
+        problem = polygon_problem(self.vertices)
+        if problem is not None:
+            raise ValueError(problem.message)
 
 
 @dataclass(frozen=True)
-class MassProperties:
-    """Per unit density: area, centroid (body-local) and inertia about the centroid.
+class Capsule(_Placed):
+    """Two half-discs of `radius` joined by a box: the end circles' centres are `length` apart on the
+    shape's x axis, centred on its origin."""
 
-    `vertices` are counter-clockwise and relative to the centroid (empty for circles).
-    """
-
-    kind: int
-    area: float
-    centroid: np.ndarray
-    unit_inertia: float
+    length: float
     radius: float
-    vertices: np.ndarray
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if not (math.isfinite(self.length) and self.length >= 0):
+            raise ValueError("a capsule's length must be >= 0")
+        if not (math.isfinite(self.radius) and self.radius > 0):
+            raise ValueError("a capsule's radius must be > 0")
 
 
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+@dataclass(frozen=True)
+class Segment(_Placed):
+    """A line between two points: no area, no mass; it collides on both sides."""
+
+    points: tuple[tuple[float, float], ...]
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        object.__setattr__(self, "points", _points(self.points, "segment", 2, 2))
+        if math.dist(*self.points) <= 0.0:
+            raise ValueError("a segment's two points must differ")
+
+    @property
+    def has_area(self) -> bool:
+        return False
 
 
-def convex_polygon(points) -> np.ndarray:
-    """Validate a convex polygon and return its vertices counter-clockwise (raises ValueError)."""
-    p = np.asarray(points, dtype=np.float64)
-    if p.ndim != 2 or p.shape[1] != 2 or not 3 <= len(p) <= MAX_VERTICES:
-        raise ValueError(f"a polygon needs 3 to {MAX_VERTICES} vertices, got {len(p)}")
-    if not np.all(np.isfinite(p)):
-        raise ValueError("polygon vertices must be finite")
-    edges = np.roll(p, -1, axis=0) - p
-    turns = _cross(edges, np.roll(edges, -1, axis=0))
-    scale = max(float(np.max(np.abs(p - p.mean(axis=0)))), 1e-300)
-    tol = 1e-12 * scale * scale
-    if np.all(turns > tol):
-        ccw = p
-    elif np.all(turns < -tol):
-        ccw = p[::-1].copy()
-    else:
-        raise ValueError("polygon must be convex with no repeated or collinear vertices")
-    centred = ccw - ccw.mean(axis=0)
-    winding = np.sum(np.arctan2(_cross(centred, np.roll(centred, -1, axis=0)),
-                                np.sum(centred * np.roll(centred, -1, axis=0), axis=1)))
-    if abs(winding - 2 * np.pi) > 1e-6:
-        raise ValueError("polygon must not intersect itself")
-    return ccw
+@dataclass(frozen=True)
+class Chain(_Placed):
+    """A polyline of 2 to 4096 points (closed with `loop`): no area, no mass. Bodies slide and roll
+    along it without catching at the joints between its segments; it collides on both sides."""
+
+    points: tuple[tuple[float, float], ...]
+    loop: bool = False
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        points = _points(self.points, "chain", 3 if self.loop else 2, MAX_CHAIN_POINTS)
+        object.__setattr__(self, "points", points)
+        closing = ((points[-1], points[0]),) if self.loop else ()
+        for k, (p, q) in enumerate((*zip(points, points[1:], strict=False), *closing)):
+            if p == q:
+                raise ValueError(f"chain points {k} and {(k + 1) % len(points)} coincide")
+
+    @property
+    def has_area(self) -> bool:
+        return False
 
 
-def mass_properties(shape: Shape) -> MassProperties:
-    """Area, centroid and inertia of a shape at unit density."""
-    if isinstance(shape, Circle):
-        r = float(shape.radius)
-        if not r > 0:
-            raise ValueError("circle radius must be > 0")
-        area = np.pi * r * r
-        return MassProperties(CIRCLE, area, np.zeros(2), 0.5 * area * r * r, r, np.zeros((0, 2)))
+Shape = Circle | Box | Polygon | Capsule | Segment | Chain
+
+
+def type_name(shape: Shape) -> str:
+    """The shape's type as the scene format and the trajectory name it."""
     if isinstance(shape, Box):
-        w, h = float(shape.width), float(shape.height)
-        if not (w > 0 and h > 0):
-            raise ValueError("box width and height must be > 0")
-        corners = np.array([[-w / 2, -h / 2], [w / 2, -h / 2], [w / 2, h / 2], [-w / 2, h / 2]])
-        area = w * h
-        return MassProperties(OBB if shape.rotates else AABB, area, np.zeros(2),
-                              area * (w * w + h * h) / 12.0, 0.0, corners)
-    ccw = convex_polygon(shape.vertices)
-    ref = ccw.mean(axis=0)  # integrate about an interior point to limit round-off
-    p = ccw - ref
-    q = np.roll(p, -1, axis=0)
-    c = _cross(p, q)
-    area = 0.5 * float(np.sum(c))
-    centroid_rel = np.sum((p + q) * c[:, None], axis=0) / (6.0 * area)
-    squares = np.sum(p * p, axis=1) + np.sum(p * q, axis=1) + np.sum(q * q, axis=1)
-    inertia_ref = float(np.sum(c * squares)) / 12.0
-    unit_inertia = inertia_ref - area * float(centroid_rel @ centroid_rel)
-    centroid = ref + centroid_rel
-    return MassProperties(POLYGON, area, centroid, unit_inertia, 0.0, ccw - centroid)
+        return "obb" if shape.rotates else "aabb"
+    return type(shape).__name__.lower()

@@ -2,12 +2,18 @@
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
+
 import numpy as np
 
+from rustycs import defaults
 from rustycs.body_types import BODY_TYPE_NAMES, DYNAMIC
 from rustycs.kernel_cache import ensure_fresh
 from rustycs.materials import MATERIALS, Material
-from rustycs.shapes import AABB, KIND_NAMES, MAX_VERTICES, Shape, mass_properties
+from rustycs.pieces import MAX_VERTICES, body_mass, edge_normals, shape_pieces
+from rustycs.shapes import Box, Capsule, Chain, Circle, Polygon, Segment, Shape, type_name
+from rustycs.state import Bodies, Shapes, Table
 
 _BODY_TYPES = {name: code for code, name in enumerate(BODY_TYPE_NAMES)}
 
@@ -22,31 +28,24 @@ class SimulationDiverged(RuntimeError):
         super().__init__(message)
 
 
-def _grow(array: np.ndarray, rows: int) -> np.ndarray:
-    grown = np.zeros((rows,) + array.shape[1:], dtype=array.dtype)
-    grown[: len(array)] = array
-    return grown
+def _material(material: Material | str) -> Material:
+    if isinstance(material, Material):
+        return material
+    if material not in MATERIALS:
+        raise ValueError(f"unknown material {material!r}; presets: {', '.join(MATERIALS)}")
+    return MATERIALS[material]
 
 
 class World:
-    """A 2D world of rigid bodies.
+    """A 2D world of rigid bodies made of shapes.
 
     Each tick is dt = 1/tick_rate long and runs `precision` solver substeps. Attractors pull with
     the acceleration G*M/max(d, min_distance)^2; forces are constant accelerations.
     """
 
-    _FIELDS = {  # per-body arrays: trailing shape and dtype
-        "x": ((2,), np.float64), "angle": ((), np.float64), "v": ((2,), np.float64),
-        "w": ((), np.float64), "inv_mass": ((), np.float64), "inv_inertia": ((), np.float64),
-        "mass": ((), np.float64), "inertia": ((), np.float64), "body_type": ((), np.int64),
-        "kind": ((), np.int64), "radius": ((), np.float64), "nverts": ((), np.int64),
-        "local_verts": ((MAX_VERTICES, 2), np.float64), "local_normals": ((MAX_VERTICES, 2), np.float64),
-        "origin_offset": ((2,), np.float64), "restitution": ((), np.float64),
-        "friction": ((), np.float64), "active": ((), np.bool_), "group": ((), np.int64),
-    }
-
-    def __init__(self, tick_rate: float = 60.0, precision: int = 10, gravitational_constant: float = 1.0,
-                 bounds=None, restitution_threshold: float = 1.0):
+    def __init__(self, tick_rate: float = defaults.TICK_RATE, precision: int = defaults.PRECISION,
+                 gravitational_constant: float = defaults.GRAVITATIONAL_CONSTANT, bounds=None,
+                 restitution_threshold: float = defaults.RESTITUTION_THRESHOLD):
         if not tick_rate > 0:
             raise ValueError("tick_rate must be > 0")
         if int(precision) < 1:
@@ -59,27 +58,30 @@ class World:
         self.restitution_threshold = float(restitution_threshold)
         self.tick = 0
         self.escaped_count = 0
-        self.body_count = 0
         self._gravity = np.zeros(2)
-        self._inputs: dict | None = None  # the kernels' inputs, rebuilt when bodies or forces change
         self._attractors: list[dict] = []
-        self._a = {name: np.zeros((0,) + shape, dtype) for name, (shape, dtype) in self._FIELDS.items()}
+        self._bodies = Table(Bodies)
+        self._shapes = Table(Shapes)  # convex pieces, as the kernels collide them
+        self._shape_list: list[tuple[int, Shape]] = []  # (body, shape) as given
+        self._inputs: tuple | None = None  # the kernels' inputs, rebuilt when bodies or forces change
         # the step's buffers, kept from block to block (rebuilt when bodies are added)
-        self._workspace: tuple | None = None
-        # the last tick's contact points, one array per column, built from the workspace when asked
-        self._contact_rows = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64),
-                              np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0), np.zeros(0), np.zeros(0))
-        self._contact_rows_stale = False
+        self._workspace = None
+        self._contact_rows = None  # the last tick's contact points, built from the workspace when asked
         self._no_frames: dict[str, np.ndarray] | None = None  # the step's buffer when nothing is recorded
+
+    @property
+    def body_count(self) -> int:
+        return self._bodies.rows
 
     # ------------------------------------------------------------------ building
     def add_force(self, acceleration) -> None:
-        """Add a constant acceleration felt by every dynamic body (gravity, wind)."""
+        """Add a constant acceleration felt by every dynamic body (gravity, wind), times its gravity
+        scale."""
         self._gravity = self._gravity + np.asarray(acceleration, dtype=np.float64)
         self._inputs = None
 
     def add_attractor(self, position, mass: float, range: float | None = None,
-                      min_distance: float = 0.01) -> None:
+                      min_distance: float = defaults.MIN_DISTANCE) -> None:
         """Add a fixed point pulling dynamic bodies; `range` None makes it global."""
         if not min_distance > 0:
             raise ValueError("min_distance must be > 0")
@@ -92,92 +94,101 @@ class World:
     def attractors(self) -> list[dict]:
         return [dict(a, position=a["position"].copy()) for a in self._attractors]
 
-    def add_body(self, shape: Shape, position=(0.0, 0.0), angle: float = 0.0, velocity=(0.0, 0.0),
-                 angular_velocity: float = 0.0, body_type: str = "dynamic",
-                 material: str | Material = "default", mass: float | None = None,
-                 collision_group: int = 0) -> int:
-        """Add a body and return its index. `position` is the body origin (a polygon's vertices are
-        relative to it); the body rotates about its centre of mass."""
+    def add_body(self, shapes: Shape | Sequence[Shape], position=(0.0, 0.0), angle: float = 0.0,
+                 velocity=(0.0, 0.0), angular_velocity: float = 0.0, body_type: str = defaults.BODY_TYPE,
+                 material: str | Material = defaults.MATERIAL, mass: float | None = None,
+                 collision_group: int = defaults.COLLISION_GROUP,
+                 collision_category: int = defaults.COLLISION_CATEGORY,
+                 collision_mask: int = defaults.COLLISION_MASK,
+                 linear_damping: float = defaults.LINEAR_DAMPING,
+                 angular_damping: float = defaults.ANGULAR_DAMPING,
+                 gravity_scale: float = defaults.GRAVITY_SCALE, fixed_rotation: bool = False,
+                 bullet: bool = False) -> int:
+        """Add a body made of one shape or several and return its index. `position` is the body origin
+        (the shapes' offsets and a polygon's vertices are relative to it); the body rotates about its
+        centre of mass. A dynamic body needs a shape with area; `mass` scales the shapes' masses
+        (area x density) to the given total."""
+        one = isinstance(shapes, (Circle, Box, Polygon, Capsule, Segment, Chain))
+        shapes = [shapes] if one else list(shapes)
+        if not shapes:
+            raise ValueError("a body needs at least one shape")
         if body_type not in _BODY_TYPES:
             raise ValueError(f"unknown body type {body_type!r}")
-        mat = MATERIALS[material] if isinstance(material, str) else material
-        props = mass_properties(shape)
-        kind = props.kind
-        if kind == AABB and angle != 0.0:
-            raise ValueError("an aabb cannot be rotated; use an obb")
-        if mass is not None and not mass > 0:
-            raise ValueError("mass must be > 0")
-        body_mass = float(mass) if mass is not None else props.area * mat.density
-        inertia = props.unit_inertia * body_mass / props.area
         code = _BODY_TYPES[body_type]
         moves = code == DYNAMIC
-        i = self.body_count
-        if i == len(self._a["x"]):
-            for name in self._a:
-                self._a[name] = _grow(self._a[name], max(8, 2 * i))
-        a = self._a
-        c, s = np.cos(angle), np.sin(angle)
-        rotation = np.array([[c, -s], [s, c]])
-        centroid = rotation @ props.centroid
-        a["x"][i] = np.asarray(position, dtype=np.float64) + centroid
-        a["angle"][i] = angle
-        a["v"][i] = velocity
-        a["w"][i] = 0.0 if kind == AABB else angular_velocity
-        a["mass"][i] = body_mass if moves else np.inf
-        a["inertia"][i] = inertia if moves and kind != AABB else np.inf
-        a["inv_mass"][i] = 1.0 / body_mass if moves else 0.0
-        a["inv_inertia"][i] = 1.0 / inertia if moves and kind != AABB else 0.0
-        a["body_type"][i] = code
-        a["kind"][i] = kind
-        a["radius"][i] = props.radius
-        k = len(props.vertices)
-        a["nverts"][i] = k
-        a["local_verts"][i] = 0.0
-        a["local_normals"][i] = 0.0
-        if k:
-            verts = props.vertices
-            edges = np.roll(verts, -1, axis=0) - verts
-            normals = np.stack([edges[:, 1], -edges[:, 0]], axis=1)
-            a["local_verts"][i, :k] = verts
-            a["local_normals"][i, :k] = normals / np.linalg.norm(normals, axis=1)[:, None]
-        a["origin_offset"][i] = -props.centroid
-        a["restitution"][i] = mat.restitution
-        a["friction"][i] = mat.friction
-        a["active"][i] = True
-        a["group"][i] = collision_group
-        self.body_count += 1
+        if mass is not None and not (mass > 0 and math.isfinite(mass)):
+            raise ValueError("mass must be > 0")
+        if moves and not any(shape.has_area for shape in shapes):
+            raise ValueError("a dynamic body needs at least one shape with area "
+                             "(not a sensor, segment or chain)")
+        for name, value in (("linear_damping", linear_damping), ("angular_damping", angular_damping)):
+            if not (value >= 0 and math.isfinite(value)):
+                raise ValueError(f"{name} must be >= 0")
+        fixed_rotation = fixed_rotation or any(isinstance(s, Box) and not s.rotates for s in shapes)
+        if fixed_rotation and any(isinstance(s, Box) and not s.rotates for s in shapes) and angle != 0.0:
+            raise ValueError("an aabb cannot be rotated; use an obb")
+        body_material = _material(material)
+        materials = [body_material if s.material is None else _material(s.material) for s in shapes]
+        placed = [(shape, m, piece) for shape, m in zip(shapes, materials, strict=True)
+                  for piece in shape_pieces(shape)]
+        pieces = [piece for _, _, piece in placed]
+        props = body_mass(pieces, [m.density for _, m, _ in placed], [s.has_area for s, _, _ in placed],
+                          mass if moves else None)
+        rotates = moves and not fixed_rotation
+        c, s = math.cos(angle), math.sin(angle)
+        center = np.asarray(position, dtype=np.float64) + np.array([[c, -s], [s, c]]) @ props.center
+        index = self._bodies.rows
+        first_shape = self._shapes.rows
+        for shape, shape_material, piece in placed:
+            k = len(piece.vertices)
+            vertices = np.zeros((MAX_VERTICES, 2))
+            normals = np.zeros((MAX_VERTICES, 2))
+            vertices[:k] = piece.vertices - props.center
+            if k > 1:
+                normals[:k] = edge_normals(vertices[:k])
+            group, category, mask = int(collision_group), int(collision_category), int(collision_mask)
+            self._shapes.append(body=index, kind=piece.kind, radius=piece.radius, count=k, vertices=vertices,
+                                normals=normals, centroid=piece.centroid - props.center,
+                                ghosts=piece.ghosts - props.center, open_ends=piece.open_ends,
+                                friction=shape_material.friction, restitution=shape_material.restitution,
+                                sensor=shape.sensor, group=group, category=category, mask=mask)
+        self._bodies.append(
+            x=center, angle=angle, v=velocity, w=0.0 if fixed_rotation else angular_velocity,
+            mass=props.mass if moves else np.inf, inertia=props.inertia if rotates else np.inf,
+            inv_mass=1.0 / props.mass if moves else 0.0, inv_inertia=1.0 / props.inertia if rotates else 0.0,
+            body_type=code, active=True, origin=-props.center, linear_damping=linear_damping,
+            angular_damping=angular_damping, gravity_scale=gravity_scale, fixed_rotation=fixed_rotation,
+            bullet=bullet, first_shape=first_shape, shape_count=self._shapes.rows - first_shape)
+        self._shape_list += [(index, shape) for shape in shapes]
         self._inputs = None
-        if self._workspace is not None:  # sized for the old body count; its warm-start cache carries over
+        if self._workspace is not None:  # sized for the old bodies; its warm-start cache carries over
             self._last_contacts()
             self._workspace = None
-        return i
+        return index
 
     # ------------------------------------------------------------------ stepping
-    def _kernel_inputs(self) -> dict:
-        """The arrays the kernels take, built once per change of the world's make-up, so that stepping
-        and recording tick by tick cost little Python."""
+    def _kernel_inputs(self) -> tuple:
+        """The records the kernels take (bodies, shapes, forces), built once per change of the world's
+        make-up, so that stepping and recording tick by tick cost little Python."""
         if self._inputs is None:
-            k = self.body_count
+            from rustycs.forces import Forces
+
             att = self._attractors
-            self._inputs = dict(
-                {name: arr[:k] for name, arr in self._a.items()},
+            forces = Forces(
                 gravity=self._gravity,
-                att_pos=np.array([t["position"] for t in att], dtype=np.float64).reshape(-1, 2),
-                att_gm=np.array([self.gravitational_constant * t["mass"] for t in att], dtype=np.float64),
-                att_range=np.array([t["range"] for t in att], dtype=np.float64),
-                att_min=np.array([t["min_distance"] for t in att], dtype=np.float64),
-            )
+                attractor_position=np.array([t["position"] for t in att], dtype=np.float64).reshape(-1, 2),
+                attractor_gm=np.array([self.gravitational_constant * t["mass"] for t in att],
+                                      dtype=np.float64),
+                attractor_range=np.array([t["range"] for t in att], dtype=np.float64),
+                attractor_min_distance=np.array([t["min_distance"] for t in att], dtype=np.float64))
+            self._inputs = (self._bodies.view(), self._shapes.view(), forces)
         return self._inputs
 
-    def _settings(self) -> np.ndarray:
-        settings = np.zeros(8)
-        settings[0] = self.dt
-        settings[1] = self.precision
-        settings[2] = self.restitution_threshold
-        if self.bounds is not None:
-            settings[3] = 1.0
-            settings[4:8] = (*self.bounds[0], *self.bounds[1])
-        return settings
+    def _settings(self):
+        from rustycs.step import Settings
+
+        bounds = np.zeros(4) if self.bounds is None else np.array([*self.bounds[0], *self.bounds[1]])
+        return Settings(self.dt, self.precision, self.restitution_threshold, bounds, self.bounds is not None)
 
     def step(self, n: int = 1, record: dict[str, np.ndarray] | None = None, every: int = 1) -> int:
         """Advance n ticks in compiled code. Raises SimulationDiverged on a non-finite state.
@@ -191,7 +202,7 @@ class World:
 
         if n <= 0:
             return 0
-        a = self._kernel_inputs()
+        bodies, shapes, forces = self._kernel_inputs()
         if record is None:
             every = 0
             record = self._no_frames = self._no_frames or self.frame_buffer(0)
@@ -199,15 +210,13 @@ class World:
             raise ValueError(f"a frame buffer of {len(record['tick'])} rows cannot hold {-(-n // every)} "
                              "frames")
         if self._workspace is None:
-            key, *_, jn, jt = self._last_contacts()
-            self._workspace = new_workspace(self.body_count, a["local_verts"].shape[1], key, jn, jt)
+            last = self._last_contacts()
+            self._workspace = new_workspace(self.body_count, self._shapes.rows, MAX_VERTICES, last.key,
+                                            last.normal_impulse, last.tangent_impulse)
         bad, done, escaped, recorded, self._workspace = step_world(
-            n, a["x"], a["angle"], a["v"], a["w"], a["inv_mass"], a["inv_inertia"], a["body_type"],
-            a["kind"], a["radius"], a["nverts"], a["local_verts"], a["local_normals"], a["restitution"],
-            a["friction"], a["active"], a["group"], a["gravity"], a["att_pos"], a["att_gm"], a["att_range"],
-            a["att_min"], self._settings(), self._workspace, a["mass"], a["inertia"], a["origin_offset"],
-            self.tick, every, tuple(record.values()))
-        self._contact_rows_stale = True
+            n, bodies, shapes, forces, self._settings(), self._workspace, self.tick, every,
+            tuple(record.values()))
+        self._contact_rows = None
         self.escaped_count += escaped
         if bad >= 0:
             self.tick += done + 1
@@ -226,18 +235,22 @@ class World:
         """Write the current state into row `row` of a frame buffer, as `step` does after a tick."""
         from rustycs.recording import record_frame
 
-        a = self._kernel_inputs()
-        _, _, _, _, _, sep, jn, _ = self._last_contacts()
-        record_frame(tuple(frames.values()), row, self.tick, a["x"], a["angle"], a["v"], a["w"], a["active"],
-                     a["body_type"], a["mass"], a["inertia"], a["inv_inertia"], a["origin_offset"],
-                     a["gravity"], a["att_pos"], a["att_gm"], a["att_range"], a["att_min"], sep, jn)
+        bodies, _, forces = self._kernel_inputs()
+        if self._workspace is None:
+            from rustycs.narrow_phase import new_contacts
+
+            points, n_points = new_contacts(0).points, 0
+        else:
+            points, n_points = self._workspace.contacts.points, int(self._workspace.contacts.count[1])
+        record_frame(tuple(frames.values()), row, self.tick, bodies, forces, points, n_points)
 
     # ------------------------------------------------------------------ state
     def _get(self, name: str) -> np.ndarray:
-        return self._a[name][: self.body_count].copy()
+        return self._bodies.columns[name][: self.body_count].copy()
 
     @property
     def centers(self) -> np.ndarray:
+        """Centres of mass."""
         return self._get("x")
 
     @property
@@ -245,8 +258,7 @@ class World:
         """Body origins: the centre of mass plus the rotated offset to the origin."""
         from rustycs.observables import body_origins
 
-        k = self.body_count
-        return body_origins(self._a["x"][:k], self._a["angle"][:k], self._a["origin_offset"][:k])
+        return body_origins(self._bodies.view())
 
     @property
     def angles(self) -> np.ndarray:
@@ -273,35 +285,71 @@ class World:
         return self._get("inertia")
 
     @property
-    def radii(self) -> np.ndarray:
-        return self._get("radius")
-
-    @property
-    def vertex_counts(self) -> np.ndarray:
-        return self._get("nverts")
-
-    @property
-    def local_vertices(self) -> np.ndarray:
-        """Unrotated vertices relative to the body origin (the rest shape)."""
-        verts = self._get("local_verts")
-        off = self._get("origin_offset")
-        counts = self._get("nverts")
-        mask = np.arange(MAX_VERTICES)[None, :] < counts[:, None]
-        return np.where(mask[:, :, None], verts - off[:, None, :], 0.0)
-
-    @property
-    def shape_kinds(self) -> np.ndarray:
-        return np.array([KIND_NAMES[k] for k in self._get("kind")])
+    def local_centers(self) -> np.ndarray:
+        """Each body's centre of mass in its own frame, relative to its origin."""
+        return -self._get("origin")
 
     @property
     def body_types(self) -> np.ndarray:
         return np.array([BODY_TYPE_NAMES[t] for t in self._get("body_type")])
 
+    @property
+    def shape_kinds(self) -> np.ndarray:
+        """Per body, its shape's type, or "compound" for a body of several shapes."""
+        kinds: list[list[str]] = [[] for _ in range(self.body_count)]
+        for body, shape in self._shape_list:
+            kinds[body].append(type_name(shape))
+        return np.array([k[0] if len(k) == 1 else "compound" for k in kinds])
+
+    # the shapes as given, one row each (S rows, in body order)
+    @property
+    def shape_count(self) -> int:
+        return len(self._shape_list)
+
+    @property
+    def shapes(self) -> list[tuple[int, Shape]]:
+        """(body, shape) of every shape, as given to `add_body`."""
+        return list(self._shape_list)
+
     def set_velocity(self, body: int, velocity, angular_velocity: float | None = None) -> None:
-        """Set a body's velocity (e.g. to drive a kinematic body)."""
-        self._a["v"][body] = velocity
-        if angular_velocity is not None and self._a["kind"][body] != AABB:
-            self._a["w"][body] = angular_velocity
+        """Set a body's velocity (e.g. to drive a kinematic body); a body of fixed rotation keeps w = 0."""
+        self._bodies.columns["v"][body] = velocity
+        if angular_velocity is not None and not self._bodies.columns["fixed_rotation"][body]:
+            self._bodies.columns["w"][body] = angular_velocity
+
+    # per body, the geometry of a body of one circle, box or convex polygon (the trajectory's additions)
+    def _single_piece(self) -> list[int | None]:
+        return [int(first) if count == 1 else None for first, count in
+                zip(self._get("first_shape"), self._get("shape_count"), strict=True)]
+
+    @property
+    def radii(self) -> np.ndarray:
+        """(N,) circle radius (0 for other bodies)."""
+        from rustycs.pieces import CIRCLE
+
+        shapes = self._shapes.columns
+        return np.array([shapes["radius"][j] if j is not None and shapes["kind"][j] == CIRCLE else 0.0
+                         for j in self._single_piece()])
+
+    @property
+    def vertex_counts(self) -> np.ndarray:
+        """(N,) vertices of a body of one box or convex polygon (0 for other bodies)."""
+        from rustycs.pieces import BOX, POLYGON
+
+        shapes = self._shapes.columns
+        return np.array([shapes["count"][j] if j is not None and shapes["kind"][j] in (BOX, POLYGON) else 0
+                         for j in self._single_piece()], dtype=np.int64)
+
+    @property
+    def local_vertices(self) -> np.ndarray:
+        """(N, 8, 2) those vertices, unrotated, relative to the body origin (rows past the count are 0)."""
+        out = np.zeros((self.body_count, MAX_VERTICES, 2))
+        counts = self.vertex_counts
+        centers = self.local_centers
+        for i, j in enumerate(self._single_piece()):
+            if counts[i]:
+                out[i, :counts[i]] = self._shapes.columns["vertices"][j, :counts[i]] + centers[i]
+        return out
 
     def observables(self) -> dict:
         """Energies and momenta of the dynamic bodies and their fastest speed; contact count and
@@ -313,20 +361,21 @@ class World:
         return {name: frames[name][0].copy() if frames[name].ndim > 1 else frames[name][0].item()
                 for name in OBSERVABLE_FIELDS}
 
-    def _last_contacts(self) -> tuple:
-        """The last tick's contact points as columns: key, body a, body b, point, normal, separation,
-        normal and tangent impulse."""
-        if self._contact_rows_stale:
-            from rustycs.step import last_contacts
+    def _last_contacts(self):
+        """The last tick's contact points as named columns (`narrow_phase.ContactRows`)."""
+        if self._contact_rows is None:
+            from rustycs.narrow_phase import contact_rows, new_contacts
 
-            self._contact_rows = last_contacts(self._workspace)
-            self._contact_rows_stale = False
+            contacts = new_contacts(0) if self._workspace is None else self._workspace.contacts
+            self._contact_rows = contact_rows(contacts)
         return self._contact_rows
 
     def contacts(self) -> dict:
         """The last tick's touching contact points (overlapping or carrying load), sorted by key."""
-        key, a, b, point, normal, sep, jn, _ = self._last_contacts()
-        touching = (sep <= 0.0) | (jn > 0.0)
-        return dict(body_a=a[touching].astype(np.int32), body_b=b[touching].astype(np.int32),
-                    point=point[touching].copy(), normal=normal[touching].copy(),
-                    depth=np.maximum(-sep[touching], 0.0), normal_impulse=jn[touching].copy())
+        rows = self._last_contacts()
+        touching = (rows.separation <= 0.0) | (rows.normal_impulse > 0.0)
+        return dict(body_a=rows.body_a[touching].astype(np.int32),
+                    body_b=rows.body_b[touching].astype(np.int32),
+                    point=rows.point[touching].copy(), normal=rows.normal[touching].copy(),
+                    depth=np.maximum(-rows.separation[touching], 0.0),
+                    normal_impulse=rows.normal_impulse[touching].copy())

@@ -6,10 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rustycs import Box, Circle, World
-from rustycs.contact_batches import schedule
-from rustycs.contact_solver import INV_INERTIA, INV_MASS, LANES
-from rustycs.step import BATCHES, BODY_ROWS, CONTACTS, SIZES
+from rustycs import Box, Circle, World, debug
+from rustycs.contact_solver import LANES
 
 
 def pyramid(rows: int) -> World:
@@ -48,22 +46,6 @@ def heap() -> World:
     return world
 
 
-def batches_of(world: World):
-    """The schedule of the world's last contacts (as the last tick made it): slots' manifolds, chunks'
-    point counts, and the manifolds' bodies, point counts and movability."""
-    workspace = world._workspace
-    n_man = workspace[SIZES][0]
-    m_a, m_b, _, m_count = (array[:n_man] for array in workspace[CONTACTS][:4])
-    body, batches = workspace[BODY_ROWS], workspace[BATCHES]
-    n_chunks = schedule(m_a, m_b, m_count, body, batches)
-    fill, chunk_points = (array[:n_chunks] for array in batches[2:4])
-    # the slots in use: the first `fill` lanes of each chunk
-    used = (np.arange(n_chunks * LANES) % LANES) < np.repeat(fill, LANES)
-    slot_manifold, slot_a, slot_b = (np.where(used, array[: n_chunks * LANES], -1) for array in batches[4:7])
-    movable = (body[:, INV_MASS] != 0.0) | (body[:, INV_INERTIA] != 0.0)
-    return n_chunks, slot_manifold, slot_a, slot_b, chunk_points, m_a, m_b, m_count, movable
-
-
 @pytest.mark.parametrize("world, ticks", [(pyramid(12), 30), (stack(8), 30), (heap(), 90)],
                          ids=["pyramid", "stack", "heap"])
 def test_chunks_share_no_movable_body_and_keep_each_bodys_contacts_in_sorted_order(world, ticks):
@@ -73,7 +55,10 @@ def test_chunks_share_no_movable_body_and_keep_each_bodys_contacts_in_sorted_ord
 
 
 def check_batches(world: World) -> None:
-    n_chunks, slot_manifold, slot_a, slot_b, chunk_points, m_a, m_b, m_count, movable = batches_of(world)
+    s = debug.schedule(world)
+    n_chunks, slot_manifold, slot_a, slot_b = s.chunks, s.slot_manifold, s.slot_a, s.slot_b
+    chunk_points = s.chunk_points
+    m_a, m_b, m_count, movable = s.body_a, s.body_b, s.point_count, s.movable
     n_man = len(m_a)
     assert n_man >= 8  # the scene is in contact
     # every manifold in exactly one slot, with its bodies
@@ -101,9 +86,9 @@ def test_contacts_fill_the_lanes_when_their_chains_are_short():
     a stack is one chain: one contact per chunk."""
     wide = pyramid(16)
     wide.step(30)
-    n_chunks, *_, m_a, _, _, _ = batches_of(wide)
-    assert len(m_a) / (n_chunks * LANES) > 0.5
+    s = debug.schedule(wide)
+    assert len(s.body_a) / (s.chunks * LANES) > 0.5
     tall = stack(8)
     tall.step(30)
-    n_chunks, *_, m_a, _, _, _ = batches_of(tall)
-    assert n_chunks == len(m_a) == 8
+    s = debug.schedule(tall)
+    assert s.chunks == len(s.body_a) == 8

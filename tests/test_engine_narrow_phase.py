@@ -12,10 +12,8 @@ import math
 import numpy as np
 import pytest
 
-from rustycs.broad_phase import BODY_BITS
-from rustycs.contact_solver import NX, NY, SEPARATION
-from rustycs.manifold import FEATURE_BITS, collide_circles, contact_buffers, narrow_phase
-from rustycs.shapes import MAX_VERTICES, Box, Circle, Polygon, mass_properties
+from rustycs import Box, Circle, Polygon, debug
+from rustycs.manifold import collide_circles, new_collision
 
 MARGIN = 0.02
 S2 = math.sqrt(2.0)
@@ -23,39 +21,11 @@ S2 = math.sqrt(2.0)
 
 def collide_pair(a, b, margin=MARGIN):
     """Manifold of two posed shapes (shape, origin, angle): normal, points (k, 2), depths (k,), ids."""
-    n = 2
-    x = np.zeros((n, 2))
-    kind = np.zeros(n, np.int64)
-    radius = np.zeros(n)
-    nverts = np.zeros(n, np.int64)
-    verts = np.zeros((n, MAX_VERTICES, 2))
-    normals = np.zeros((n, MAX_VERTICES, 2))
-    for i, (shape, origin, angle) in enumerate((a, b)):
-        props = mass_properties(shape)
-        c, s = math.cos(angle), math.sin(angle)
-        rot = np.array([[c, -s], [s, c]])
-        x[i] = np.asarray(origin, float) + rot @ props.centroid
-        kind[i] = props.kind
-        radius[i] = props.radius
-        k = len(props.vertices)
-        nverts[i] = k
-        if k:
-            world = x[i] + props.vertices @ rot.T
-            edges = np.roll(world, -1, axis=0) - world
-            out = np.stack([edges[:, 1], -edges[:, 0]], axis=1)
-            verts[i, :k] = world
-            normals[i, :k] = out / np.linalg.norm(out, axis=1)[:, None]
-    pair_keys = np.array([(0 << BODY_BITS) | 1], np.int64)
-    contacts = contact_buffers(1)
-    everywhere = np.tile([-np.inf, -np.inf, np.inf, np.inf], (n, 1))  # hitboxes that always overlap
-    n_man, n_pts = narrow_phase(pair_keys, x, everywhere, np.full(n, margin), kind, radius, nverts, verts,
-                                normals, np.zeros(n), np.zeros(n), margin, contacts)
-    _, _, _, _, manifold, keys, points, rows = (buffer[:n_pts] if i >= 5 else buffer[:n_man]
-                                                for i, buffer in enumerate(contacts[:8]))
-    if n_man == 0:
+    found = debug.collide(a, b, margin)
+    if not found:
         return np.zeros(2), np.zeros((0, 2)), np.zeros(0), np.zeros(0, np.int64)
-    return (manifold[0, NX:NY + 1].copy(), points.copy(), -rows[:, SEPARATION],
-            keys & ((1 << FEATURE_BITS) - 1))
+    (manifold,) = found
+    return manifold.normal, manifold.points, manifold.depths, manifold.ids
 
 
 def by_x(points, depths):
@@ -104,14 +74,11 @@ def test_circles_with_coincident_centres():
 
 
 def test_collide_circles_kernel_directly():
-    normal = np.zeros(2)
-    points = np.zeros((2, 2))
-    seps = np.zeros(2)
-    ids = np.zeros(2, np.int64)
-    assert collide_circles(0.0, 0.0, 1.0, 0.0, -1.5, 1.0, 0.0, normal, points, seps, ids) == 1
-    assert normal == pytest.approx([0, -1], abs=1e-12)
-    assert seps[0] == pytest.approx(-0.5, abs=1e-12)
-    assert points[0] == pytest.approx([0, -0.75], abs=1e-12)
+    out = new_collision()
+    assert collide_circles(0.0, 0.0, 1.0, 0.0, -1.5, 1.0, 0.0, out) == 1
+    assert out.normal == pytest.approx([0, -1], abs=1e-12)
+    assert out.separations[0] == pytest.approx(-0.5, abs=1e-12)
+    assert out.points[0] == pytest.approx([0, -0.75], abs=1e-12)
 
 
 # ---------------------------------------------------------------------------- circle-box

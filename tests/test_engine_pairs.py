@@ -6,20 +6,17 @@ from __future__ import annotations
 import numpy as np
 from test_engine_batches import heap
 
-from rustycs import Box, Circle, World
-from rustycs.broad_phase import BODY_BITS
-from rustycs.step import FAT_HITBOXES, HITBOXES, N_PAIRS, PAIR_KEYS, SIZES
+from rustycs import Box, Circle, World, debug
 
 
 def stored_pairs(world: World) -> set[tuple[int, int]]:
-    workspace = world._workspace
-    keys = workspace[PAIR_KEYS][: workspace[SIZES][N_PAIRS]]
-    return {(int(k >> BODY_BITS), int(k & ((1 << BODY_BITS) - 1))) for k in keys}
+    return {(int(a), int(b)) for a, b in debug.pairs(world)}
 
 
 def overlapping_pairs(world: World) -> set[tuple[int, int]]:
-    """Every pair of active bodies, one of them dynamic, whose hitboxes overlap (brute force)."""
-    box = world._workspace[HITBOXES]
+    """Every pair of active bodies, one of them dynamic, whose hitboxes overlap (brute force; the bodies
+    here have one shape each, so shape rows are body indices)."""
+    box = debug.hitboxes(world)
     active = world.active
     moving = world.body_types == "dynamic"
     found = set()
@@ -50,10 +47,10 @@ def test_pairs_are_kept_while_a_stack_rests_and_found_again_when_a_body_moves():
         world.add_body(Box(1.0, 1.0), position=(0.0, 0.5 + level))
     ball = world.add_body(Circle(0.2), position=(3.0, 5.0))
     world.step(200)  # the stack rests, the ball lies on the floor
-    fat = world._workspace[FAT_HITBOXES].copy()
+    fat = debug.fat_hitboxes(world)
     world.step(60)
-    assert np.array_equal(world._workspace[FAT_HITBOXES], fat)  # no body left its fat hitbox
+    assert np.array_equal(debug.fat_hitboxes(world), fat)  # no body left its fat hitbox
     world.set_velocity(ball, (-6.0, 0.0))  # rolls towards the stack
     world.step(28)  # it hits the bottom box (and bounces back)
-    assert not np.array_equal(world._workspace[FAT_HITBOXES][ball], fat[ball])
+    assert not np.array_equal(debug.fat_hitboxes(world)[ball], fat[ball])
     assert (1, ball) in stored_pairs(world)

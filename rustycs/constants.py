@@ -1,0 +1,17 @@
+"""Tuning constants of the collision and the solver, with their units and where they come from.
+
+Lengths suit bodies of 0.1 to 10 m, as Box2D's do (its values, from its constants.h and core.h, unless
+said otherwise); each was measured on the benchmark scenes where noted.
+"""
+
+from __future__ import annotations
+
+LINEAR_SLOP = 0.005  # m: overlap the solver leaves alone, so resting contacts do not jitter (Box2D)
+SPECULATIVE_DISTANCE = 4.0 * LINEAR_SLOP  # m: contact points are kept this far apart (Box2D)
+REFERENCE_TOLERANCE = 0.1 * LINEAR_SLOP  # m: face B must beat face A by this to become the reference (Box2D)
+FAT_MARGIN = 0.1  # m: how far a hitbox may move before its pairs are found again (0.05, 0.2: slower)
+CONTACT_HERTZ = 60.0  # Hz: stiffness of the soft contact, capped at a quarter of the substep rate (Box2D: 30)
+CONTACT_DAMPING_RATIO = 10.0  # of the soft contact (Box2D)
+MAX_PUSH_SPEED = 3.0  # m/s: the fastest speed at which overlap is pushed apart (Box2D's contactSpeed)
+# sine: a chain joint turning less is flat; a normal this near a neighbour segment's is that one's (Box2D)
+CHAIN_ANGLE_TOLERANCE = 0.01

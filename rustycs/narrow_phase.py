@@ -1,0 +1,202 @@
+"""Narrow phase: the manifolds of a tick's candidate pairs, in pair order, and their points in feature
+order, as the contact solver takes them.
+
+A manifold names its two shapes and their bodies (the normal points from shape a to shape b) and holds
+the mixed friction and restitution (the means of the two shapes' materials, the thesis's rule). A
+point holds its key (the pair's key and the feature id: what warm starting matches), its world
+position, and its solver row: the anchors from both centres of mass, the separation and the
+accumulated impulses (zero here; the warm start fills them in).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from rustycs.broad_phase import SHAPE_BITS, SHAPE_MASK, hitboxes_overlap
+from rustycs.manifold import (
+    Collision,
+    collide_chain_circle,
+    collide_chain_polygon,
+    collide_circles,
+    collide_polygon_circle,
+    collide_polygons,
+    new_collision,
+)
+from rustycs.pieces import BOX, CHAIN_SEGMENT, CIRCLE
+from rustycs.tick_kernel import tick_kernel
+
+FEATURE_BITS = 8  # a point's key: (pair key << FEATURE_BITS) | feature id
+
+# columns of a manifold's data row
+NX, NY, FRICTION, RESTITUTION = 0, 1, 2, 3
+MANIFOLD_COLUMNS = 4
+# columns of a point's solver row: anchors from both centres of mass, separation, and the accumulated
+# impulses (warm start in, result out)
+RAX, RAY, RBX, RBY, SEPARATION, NORMAL_IMPULSE, TANGENT_IMPULSE = 0, 1, 2, 3, 4, 5, 6
+POINT_COLUMNS = 7
+
+
+class Manifolds(NamedTuple):
+    shape_a: np.ndarray  # (M,) int64 rows in Shapes
+    shape_b: np.ndarray
+    body_a: np.ndarray  # (M,) int64 rows in Bodies
+    body_b: np.ndarray
+    first: np.ndarray  # (M,) int64 index of the first point
+    count: np.ndarray  # (M,) int64 points: 1 or 2
+    data: np.ndarray  # (M, MANIFOLD_COLUMNS)
+
+
+class Points(NamedTuple):
+    key: np.ndarray  # (P,) int64 (pair key << FEATURE_BITS) | feature id, sorted
+    position: np.ndarray  # (P, 2) world, midway between the surfaces
+    data: np.ndarray  # (P, POINT_COLUMNS)
+
+
+class Contacts(NamedTuple):
+    """A tick's manifolds and points, for up to `capacity` pairs."""
+
+    manifolds: Manifolds
+    points: Points
+    count: np.ndarray  # int64 (2,): manifolds and points in use
+    collision: Collision  # one pair's scratch
+
+
+@njit(cache=True)
+def new_contacts(capacity):
+    manifolds = Manifolds(np.empty(capacity, np.int64), np.empty(capacity, np.int64),
+                          np.empty(capacity, np.int64), np.empty(capacity, np.int64),
+                          np.empty(capacity, np.int64), np.empty(capacity, np.int64),
+                          np.empty((capacity, MANIFOLD_COLUMNS)))
+    points = Points(np.empty(2 * capacity, np.int64), np.empty((2 * capacity, 2)),
+                    np.zeros((2 * capacity, POINT_COLUMNS)))
+    return Contacts(manifolds, points, np.zeros(2, np.int64), new_collision())
+
+
+@njit(cache=True, inline="always")
+def _collide(shapes, geometry, sa, sb, within, out):
+    """The manifold of shapes sa and sb (kinds in any order), its normal from sa to sb."""
+    kind, radius, n_verts = shapes.kind, shapes.radius, shapes.count
+    verts, normals, centroid = geometry.vertices, geometry.normals, geometry.centroid
+    ka = kind[sa]
+    kb = kind[sb]
+    # dispatch written out here rather than through a table: each routine is inlined, so a pair pays
+    # for one test, not for a call passing a dozen arrays
+    if ka == CIRCLE and kb == CIRCLE:
+        return collide_circles(verts[sa, 0, 0], verts[sa, 0, 1], radius[sa], verts[sb, 0, 0], verts[sb, 0, 1],
+                               radius[sb], within, out)
+    # the routines take a chain segment first, a circle last
+    flipped = (kb == CHAIN_SEGMENT and ka != CHAIN_SEGMENT) or (ka == CIRCLE and kb != CHAIN_SEGMENT)
+    if flipped:
+        sa, sb = sb, sa
+        ka, kb = kb, ka
+    if ka == CHAIN_SEGMENT and kb == CIRCLE:
+        count = collide_chain_circle(verts, normals, geometry.ghosts, shapes.open_ends, sa, verts[sb, 0, 0],
+                                     verts[sb, 0, 1], radius[sb], within, out)
+    elif ka == CHAIN_SEGMENT:
+        count = collide_chain_polygon(verts, normals, n_verts, geometry.ghosts, shapes.open_ends, sa, sb,
+                                      radius[sb], within, out)
+    elif kb == CIRCLE:
+        count = collide_polygon_circle(verts, normals, n_verts, sa, radius[sa], verts[sb, 0, 0],
+                                       verts[sb, 0, 1], radius[sb], within, out)
+    else:
+        count = collide_polygons(verts, normals, n_verts, centroid, ka == BOX and kb == BOX, sa, radius[sa],
+                                 sb, radius[sb], within, out)
+    if flipped:
+        out.normal[0] = -out.normal[0]
+        out.normal[1] = -out.normal[1]
+    return count
+
+
+@tick_kernel
+def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, contacts):
+    """Manifolds of the first n_pairs candidate pairs (keys (a << SHAPE_BITS) | b), written into
+    `contacts` (for at least as many pairs). Returns (manifold count, point count).
+
+    A pair's points are kept within `margin` plus both bodies' travel in one tick (each body's reach is
+    the margin plus its travel), so a pair whose hitboxes (grown by the reach) do not overlap has none:
+    it is passed over (the broad phase's pairs are those of fat hitboxes).
+    """
+    m_shape_a, m_shape_b, m_body_a, m_body_b, m_first, m_count, m_data = contacts.manifolds
+    p_key, p_position, p_data = contacts.points
+    out = contacts.collision
+    x, body, hitbox, reach = bodies.x, shapes.body, geometry.hitbox, geometry.reach
+    friction, restitution = shapes.friction, shapes.restitution
+    n_man = 0
+    n_pts = 0
+    for k in range(n_pairs):
+        sa = pair_keys[k] >> SHAPE_BITS
+        sb = pair_keys[k] & SHAPE_MASK
+        if not hitboxes_overlap(hitbox, sa, sb):
+            continue
+        a = body[sa]
+        b = body[sb]
+        count = _collide(shapes, geometry, sa, sb, reach[a] + reach[b] - margin, out)
+        if count == 0:
+            continue
+        swap = count == 2 and out.ids[0] > out.ids[1]
+        m_shape_a[n_man] = sa
+        m_shape_b[n_man] = sb
+        m_body_a[n_man] = a
+        m_body_b[n_man] = b
+        m_data[n_man, NX] = out.normal[0]
+        m_data[n_man, NY] = out.normal[1]
+        m_data[n_man, FRICTION] = 0.5 * (friction[sa] + friction[sb])
+        m_data[n_man, RESTITUTION] = 0.5 * (restitution[sa] + restitution[sb])
+        m_first[n_man] = n_pts
+        m_count[n_man] = count
+        n_man += 1
+        for j in range(count):
+            src = 1 - j if swap else j
+            px, py = out.points[src, 0], out.points[src, 1]
+            p_key[n_pts] = (pair_keys[k] << FEATURE_BITS) | out.ids[src]
+            p_position[n_pts, 0] = px
+            p_position[n_pts, 1] = py
+            p_data[n_pts, RAX] = px - x[a, 0]
+            p_data[n_pts, RAY] = py - x[a, 1]
+            p_data[n_pts, RBX] = px - x[b, 0]
+            p_data[n_pts, RBY] = py - x[b, 1]
+            p_data[n_pts, SEPARATION] = out.separations[src]
+            p_data[n_pts, NORMAL_IMPULSE] = 0.0
+            p_data[n_pts, TANGENT_IMPULSE] = 0.0
+            n_pts += 1
+    contacts.count[0] = n_man
+    contacts.count[1] = n_pts
+    return n_man, n_pts
+
+
+class ContactRows(NamedTuple):
+    """Contact points one row each, as the World reports them."""
+
+    key: np.ndarray  # (C,) int64
+    body_a: np.ndarray  # (C,) int64
+    body_b: np.ndarray
+    point: np.ndarray  # (C, 2)
+    normal: np.ndarray  # (C, 2) from body a to body b
+    separation: np.ndarray  # (C,) negative where overlapping
+    normal_impulse: np.ndarray  # (C,) N s
+    tangent_impulse: np.ndarray
+
+
+@njit(cache=True)
+def contact_rows(contacts):
+    """The contact points in use, one row each: key, bodies, position, normal, separation and impulses
+    (what `World.contacts()` reports, and the warm-start cache of a rebuilt workspace)."""
+    m = contacts.manifolds
+    p = contacts.points
+    n_man = contacts.count[0]
+    n_pts = contacts.count[1]
+    body_a = np.empty(n_pts, dtype=np.int64)
+    body_b = np.empty(n_pts, dtype=np.int64)
+    normal = np.empty((n_pts, 2))
+    for k in range(n_man):
+        for j in range(m.first[k], m.first[k] + m.count[k]):
+            body_a[j] = m.body_a[k]
+            body_b[j] = m.body_b[k]
+            normal[j, 0] = m.data[k, NX]
+            normal[j, 1] = m.data[k, NY]
+    return ContactRows(p.key[:n_pts].copy(), body_a, body_b, p.position[:n_pts].copy(), normal,
+                       p.data[:n_pts, SEPARATION].copy(), p.data[:n_pts, NORMAL_IMPULSE].copy(),
+                       p.data[:n_pts, TANGENT_IMPULSE].copy())
