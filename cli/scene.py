@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import difflib
 import functools
-import math
 import operator
 import types
 import typing
@@ -38,6 +37,8 @@ from pydantic_core import ErrorDetails, InitErrorDetails, PydanticCustomError
 
 from rustycs import defaults
 from rustycs.materials import MATERIALS
+from rustycs.polygon import MAX_POLYGON_VERTICES, polygon_problem
+from rustycs.shapes import MAX_CHAIN_POINTS
 
 Loc = tuple[str | int, ...]
 Problem = tuple[Loc, str]
@@ -45,12 +46,6 @@ Problem = tuple[Loc, str]
 _VEC2_SCHEMA = {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2}
 Vec2 = Annotated[tuple[float, float], WithJsonSchema(_VEC2_SCHEMA)]
 BodyType = Literal["static", "dynamic", "kinematic"]
-MAX_VERTICES = 8
-
-# Tolerances of the polygon checks: below them a polygon counts as degenerate.
-_MIN_AREA = 1e-10  # m^2
-_MIN_EDGE = 1e-9  # m
-_MIN_SINE = 1e-9  # sine of the turn at a vertex, below it three points are collinear
 
 
 def did_you_mean(word: str, candidates: Sequence[str]) -> str:
@@ -138,7 +133,6 @@ MaterialRef = _one_of(
 
 # ------------------------------------------------------------------------------------------------- shapes
 
-MAX_CHAIN_POINTS = 4096
 _AABB_TURNS = "an aabb never rotates, so its angle must be 0: use shape type obb for a turned box"
 
 
@@ -220,77 +214,37 @@ class Obb(_Shape):
     height: float = Field(gt=0, description="Extent along the shape's local y axis, m. > 0.", examples=[1.0])
 
 
-def polygon_problem(vertices: Sequence[tuple[float, float]]) -> tuple[str, int | None] | None:
-    """Why these vertices are not a valid polygon (and the vertex to blame), or None when they are:
-    3..8 distinct points, convex in either winding, not self-intersecting, not degenerate."""
-    n = len(vertices)
-    if not 3 <= n <= MAX_VERTICES:
-        return f"a polygon has 3 to {MAX_VERTICES} vertices, this one has {n}", None
-    pts = [(float(x), float(y)) for x, y in vertices]
-    for i in range(n):
-        for j in range(i):
-            if math.dist(pts[i], pts[j]) < _MIN_EDGE:
-                return f"vertex {i} repeats vertex {j}: the polygon is degenerate", i
-    for i in range(n):
-        for j in range(i + 2, n):
-            if (j + 1) % n != i and _segments_cross(pts[i], pts[(i + 1) % n], pts[j], pts[(j + 1) % n]):
-                return f"edges {i}-{(i + 1) % n} and {j}-{(j + 1) % n} cross: the polygon self-intersects", j
-    turns = []
-    for i in range(n):
-        a, b, c = pts[i - 1], pts[i], pts[(i + 1) % n]
-        ab, bc = (b[0] - a[0], b[1] - a[1]), (c[0] - b[0], c[1] - b[1])
-        cross = ab[0] * bc[1] - ab[1] * bc[0]
-        if abs(cross) <= _MIN_SINE * math.hypot(*ab) * math.hypot(*bc):
-            return f"vertex {i} lies on the line through its neighbours: the polygon is degenerate", i
-        turns.append(cross > 0)
-    for i in range(n):
-        if turns[i] != turns[0] and turns.count(turns[i]) <= turns.count(turns[0]):
-            return f"the polygon is not convex: it turns the other way at vertex {i}", i
-    if any(t != turns[0] for t in turns):
-        return "the polygon is not convex: it turns the other way at vertex 0", 0
-    area = 0.5 * abs(sum(pts[i - 1][0] * pts[i][1] - pts[i][0] * pts[i - 1][1] for i in range(n)))
-    if area < _MIN_AREA:
-        return f"the polygon's area {area:.3g} m^2 is too small: it is degenerate", None
-    return None
-
-
-def _segments_cross(
-    p: tuple[float, float], q: tuple[float, float], r: tuple[float, float], s: tuple[float, float]
-) -> bool:
-    """Whether the segments pq and rs share a point (touching counts)."""
-
-    def orient(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float]) -> float:
-        return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-
-    def within(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float]) -> bool:
-        return min(a[0], b[0]) <= c[0] <= max(a[0], b[0]) and min(a[1], b[1]) <= c[1] <= max(a[1], b[1])
-
-    d1, d2, d3, d4 = orient(r, s, p), orient(r, s, q), orient(p, q, r), orient(p, q, s)
-    if ((d1 > 0) != (d2 > 0)) and ((d3 > 0) != (d4 > 0)) and 0 not in (d1, d2, d3, d4):
-        return True
-    return any(
-        d == 0 and within(a, b, c)
-        for d, a, b, c in ((d1, r, s, p), (d2, r, s, q), (d3, p, q, r), (d4, p, q, s))
-    )
-
-
 class _PolygonGeometry(_Model):
-    """A simple polygon's vertices, checked by the engine's rules (`polygon_problem`)."""
+    """A simple polygon's vertices; whether they are one is the engine's decision (`polygon_problem`)."""
 
     vertices: list[Vec2] = Field(
-        description=f"3 to {MAX_VERTICES} points [x, y], m, in the shape's frame; a simple polygon (its "
-        "edges do not cross), convex, either winding.",
+        description=f"3 to {MAX_POLYGON_VERTICES} points [x, y], m, in the shape's frame: a simple polygon "
+        "(no two edges cross or touch), convex or not, either winding.",
         examples=[[[0, 0], [1, 0], [0, 1]]],
+        json_schema_extra={"minItems": 3, "maxItems": MAX_POLYGON_VERTICES},
     )
+
+    @field_validator("vertices", mode="before")
+    @classmethod
+    def _not_too_many(cls, vertices: Any) -> Any:
+        """The engine's cheap count check, before each vertex is validated: a list of a million vertices
+        is refused at once."""
+        if isinstance(vertices, list) and len(vertices) > MAX_POLYGON_VERTICES:
+            _raise_polygon_problem(vertices)
+        return vertices
 
     @field_validator("vertices")
     @classmethod
     def _simple_polygon(cls, vertices: list[tuple[float, float]]) -> list[tuple[float, float]]:
-        problem = polygon_problem(vertices)
-        if problem is not None:
-            message, vertex = problem
-            raise _problem("polygon", message, at=vertex)
+        _raise_polygon_problem(vertices)
         return vertices
+
+
+def _raise_polygon_problem(vertices: Any) -> None:
+    """Raise the engine's problem with these vertices (at the vertex it names), if it finds one."""
+    problem = polygon_problem(vertices)
+    if problem is not None:
+        raise _problem("polygon", problem.message, at=problem.vertex)
 
 
 class Polygon(_PolygonGeometry, _Shape):
@@ -598,7 +552,7 @@ class Body(_Model):
         if self.type == "dynamic" and not any(shape.adds_mass for shape in self.shapes or ()):
             raise _problem(
                 "no_area",
-                "a dynamic body needs at least one shape with area (sensors, segments and chains have none)",
+                "a dynamic body needs at least one shape with area (not a sensor, segment or chain)",
                 at=form,
                 at_key=True,
             )
@@ -902,7 +856,8 @@ class RandomPolygon(_GeneratedShape):
 
     type: Literal["random_polygon"] = Field(description="Shape kind.", examples=["random_polygon"])
     vertices: Number = Field(
-        description="Vertex count, a whole number 3..8 (number, {uniform_int: [lo, hi]} or {choice: [...]}).",
+        description=f"Vertex count, a whole number 3..{MAX_POLYGON_VERTICES} "
+        "(number, {uniform_int: [lo, hi]} or {choice: [...]}).",
         examples=[{"uniform_int": [3, 8]}],
     )
     radius: Number = Field(
@@ -922,10 +877,10 @@ class RandomPolygon(_GeneratedShape):
             if isinstance(spec, NumberChoice)
             else None
         )
-        if values is None or any(v != int(v) or not 3 <= v <= MAX_VERTICES for v in values):
+        if values is None or any(v != int(v) or not 3 <= v <= MAX_POLYGON_VERTICES for v in values):
             raise PydanticCustomError(
                 "vertex_count",
-                f"the vertex count must be a whole number from 3 to {MAX_VERTICES}: a number, "
+                f"the vertex count must be a whole number from 3 to {MAX_POLYGON_VERTICES}: a number, "
                 "{uniform_int: [lo, hi]} or {choice: [...]}",
                 {},
             )

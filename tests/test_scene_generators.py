@@ -7,9 +7,10 @@ from pathlib import Path
 
 import pytest
 
+from rustycs.polygon import polygon_problem
 from rustycs_cli.errors import UserError
 from rustycs_cli.loading import load_scene, load_scene_text
-from rustycs_cli.scene import Body, Capsule, Circle, Material, Polygon, polygon_problem
+from rustycs_cli.scene import Body, Capsule, Circle, Material, Polygon
 
 HEAD = """\
 seed: 5
@@ -135,6 +136,9 @@ def test_random_polygons_are_convex_and_inscribed() -> None:
         radii = [math.hypot(x, y) for x, y in vertices]
         assert max(radii) - min(radii) < 1e-12 and 0.2 <= radii[0] <= 0.5
     assert counts == set(range(3, 9))
+    many = by_prefix(generated(TWO_GENERATORS, "generators.rocks.shape.vertices=256"), "rocks")
+    assert {len(b.shape.vertices) for b in many} == {256}  # split into convex pieces by the engine
+    assert all(polygon_problem(b.shape.vertices) is None for b in many)
 
 
 def test_shape_choice_and_body_type_choice() -> None:

@@ -3,15 +3,18 @@ problem with them reported at its FILE:LINE:COLUMN by `rustycs validate` (exit 2
 
 from __future__ import annotations
 
+import math
+import time
 from pathlib import Path
 
 import pytest
+from pydantic import ValidationError
 
 from rustycs import defaults
 from rustycs_cli.build import build_world
 from rustycs_cli.errors import UserError
 from rustycs_cli.loading import load_scene_text
-from rustycs_cli.scene import Capsule, Chain, Circle, Material, Obb, Segment
+from rustycs_cli.scene import Capsule, Chain, Circle, Material, Obb, Polygon, Scene, Segment
 
 CUP = """\
 bodies:
@@ -127,6 +130,7 @@ def body(extra: str) -> str:
 
 
 CIRCLE = "    shape: {type: circle, radius: 1}\n"
+RING_257 = "[" + ", ".join(f"[{math.cos(k / 41):.6f}, {math.sin(k / 41):.6f}]" for k in range(257)) + "]"
 
 
 @pytest.mark.parametrize(
@@ -159,8 +163,8 @@ CIRCLE = "    shape: {type: circle, radius: 1}\n"
                 "    shapes:\n      - {type: circle, radius: 1, sensor: true}\n"
                 "      - {type: chain, points: [[0, 0], [1, 0]]}\n"
             ),
-            "4:5: bodies.b.shapes: a dynamic body needs at least one shape with area (sensors, segments "
-            "and chains have none)",
+            "4:5: bodies.b.shapes: a dynamic body needs at least one shape with area (not a sensor, "
+            "segment or chain)",
         ),
         (
             body("    shape: {type: segment, points: [[0, 0], [1, 0]]}\n"),
@@ -243,6 +247,17 @@ CIRCLE = "    shape: {type: circle, radius: 1}\n"
             "4:77: bodies.b.shapes.1.material: unknown material 'rubbr' (did you mean 'rubber'?); known: "
             "default, metal, plastic, rubber, stone",
         ),
+        (  # the engine's message, at the first vertex of the later of the two crossing edges
+            body(
+                "    shapes:\n      - {type: circle, radius: 1}\n"
+                "      - {type: polygon, vertices: [[0, 0], [4, 0], [4, 1], [1, 3], [3, 3], [0, 1]]}\n"
+            ),
+            "6:68: bodies.b.shapes.1.vertices.4: edges 2-3 and 4-5 cross: the polygon intersects itself",
+        ),
+        (
+            body(f"    shapes: [{{type: polygon, vertices: {RING_257}}}]\n"),
+            "4:40: bodies.b.shapes.0.vertices: a polygon has 3 to 256 vertices, this one has 257",
+        ),
         (
             body("    shapes: []\n"),
             "4:13: bodies.b.shapes: List should have at least 1 item after validation",
@@ -263,6 +278,36 @@ def test_shape_problems_are_reported_where_they_are(
     assert result.stderr.startswith(f"{path}:{expected}")
 
 
+def test_concave_polygons_of_up_to_256_vertices_are_valid() -> None:
+    l_shape = "[[0, 0], [0.6, 0], [0.6, 0.15], [0.15, 0.15], [0.15, 0.6], [0, 0.6]]"
+    ring = RING_257.replace("[1.000000, 0.000000], ", "", 1)
+    scene = load_scene_text(
+        body(f"    shapes: [{{type: polygon, vertices: {l_shape}}}, {{type: polygon, vertices: {ring}}}]\n"),
+        "p.yaml",
+    ).scene
+    shapes = scene.bodies[0].shapes or []
+    assert [len(s.vertices) for s in shapes if isinstance(s, Polygon)] == [6, 256]
+
+
+@pytest.mark.parametrize(
+    ("shape", "message"),
+    [
+        (
+            {"type": "polygon", "vertices": [[k, 0.0] for k in range(10**6)]},
+            "a polygon has 3 to 256 vertices",
+        ),
+        ({"type": "chain", "points": [[k, 0.0] for k in range(10**6)]}, "a chain has 2 to 4096 points"),
+    ],
+)
+def test_a_million_vertices_are_refused_at_once(shape: dict, message: str) -> None:
+    data = {"bodies": [{"type": "static", "shapes": [shape], "position": [0, 0]}]}
+    started = time.perf_counter()
+    with pytest.raises(ValidationError) as raised:
+        Scene.model_validate(data)
+    assert time.perf_counter() - started < 0.1
+    assert [e["msg"] for e in raised.value.errors()] == [f"{message}, this one has 1000000"]
+
+
 def test_both_keys_and_the_problems_inside_them_are_reported_together(tmp_path: Path) -> None:
     text = body("    shape: {type: circle, radius: -1}\n    shapes: [{type: obb, width: 1}]\n    mass: 0\n")
     with pytest.raises(UserError) as raised:
@@ -275,7 +320,9 @@ def test_both_keys_and_the_problems_inside_them_are_reported_together(tmp_path: 
     ]
 
 
-def test_the_engine_refuses_what_it_cannot_build_yet_with_a_message() -> None:
+def test_what_cannot_run_yet_is_refused_with_a_message() -> None:
+    """Until the application builds, records and draws bodies made of shapes, `rustycs run` refuses
+    them by name (exit 2) rather than running them without what they ask for."""
     scene = load_scene_text(CUP, "cup.yaml").scene
     for index, message in [
         (0, "body 'cup': it has several shapes"),
@@ -285,9 +332,21 @@ def test_the_engine_refuses_what_it_cannot_build_yet_with_a_message() -> None:
         one = scene.model_copy(update={"bodies": [scene.bodies[index]]})
         with pytest.raises(UserError, match=message):
             build_world(one)
-    damped = load_scene_text(body(CIRCLE + "    linear_damping: 0.1\n"), "d.yaml").scene
-    with pytest.raises(UserError) as raised:
-        build_world(damped)
-    assert raised.value.messages == [
-        "body 'b': it sets linear_damping: this version of the engine cannot simulate it yet"
-    ]
+    for extra, refused in [
+        ("    shape: {type: circle, radius: 1}\n    linear_damping: 0.1\n", "it sets linear_damping"),
+        (
+            "    shape: {type: circle, radius: 1, offset: [1, 0], sensor: true}\n    type: kinematic\n",
+            "it sets shape.offset, shape.sensor",
+        ),
+        (
+            "    shape: {type: polygon, vertices: [[0, 0], [2, 0], [1, 0.5], [1, 2]]}\n",
+            "its polygon is concave or has more than 8 vertices",
+        ),
+    ]:
+        with pytest.raises(UserError) as raised:
+            build_world(load_scene_text(body(extra), "b.yaml").scene)
+        assert raised.value.messages == [
+            f"body 'b': {refused}: this version of rustycs validates it but cannot run it yet"
+        ]
+    one_in_a_list = load_scene_text(body("    shapes: [{type: circle, radius: 1}]\n"), "b.yaml").scene
+    assert build_world(one_in_a_list).body_count == 1  # one shape of the old kinds: as before
