@@ -13,11 +13,11 @@ import pytest
 import yaml
 
 from rustycs_cli.loading import load_scene
-from rustycs_cli.scene import PRESET_MATERIALS, Capsule, Chain, Circle, Obb, Scene
+from rustycs_cli.scene import PRESET_MATERIALS, Capsule, Chain, Circle, Obb, Polygon, Scene
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = sorted((ROOT / "scenes").rglob("*.yaml"))
-SHAPES_DEMOS = ["capsule_pile", "cup_of_balls", "curved_ramp"]  # bodies made of shapes
+SHAPES_DEMOS = ["capsule_pile", "cup_of_balls", "curved_ramp", "l_brackets"]  # bodies made of shapes
 DEMOS = sorted(
     [
         "all_platforms",
@@ -157,6 +157,26 @@ def test_capsule_pile_starts_apart_inside_its_container() -> None:
         assert abs(x) + reach[k] < 3.0 and y - reach[k] > 0  # inside the walls, above the floor
         for j in range(k):
             assert math.dist(capsule.position, capsules[j].position) > reach[k] + reach[j]
+
+
+def test_l_brackets_are_concave_hexagons_that_start_apart_inside_the_box() -> None:
+    floor, left, right, *brackets = load_scene(ROOT / "scenes" / "l_brackets.yaml").scene.bodies
+    assert [b.type for b in (floor, left, right)] == ["static"] * 3 and len(brackets) == 40
+    inner = right.position[0] - right.shape.width / 2
+    for k, bracket in enumerate(brackets):
+        assert isinstance(bracket.shape, Polygon) and bracket.type == "dynamic"
+        vertices = bracket.shape.vertices
+        turns = [
+            (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
+            for a, b, c in zip(
+                vertices[-1:] + vertices[:-1], vertices, vertices[1:] + vertices[:1], strict=True
+            )
+        ]
+        assert len(vertices) == 6 and sum(t < 0 for t in turns) == 1  # one reflex corner: an L
+        reach = max(math.hypot(x, y) for x, y in vertices)  # about the origin, whatever the angle
+        (x, y) = bracket.position
+        assert abs(x) + reach < inner and y - reach > 0
+        assert all(math.dist(bracket.position, other.position) > 2 * reach for other in brackets[:k])
 
 
 def _peers() -> Any:

@@ -11,7 +11,7 @@ import pytest
 SCENES = Path(__file__).resolve().parent.parent / "scenes"
 # TODO(issue "Bodies made of shapes"): run these once the engine builds bodies made of shapes; until then
 # they are only validated (tests/test_scene_files.py).
-NEED_THE_NEW_ENGINE = {"capsule_pile", "cup_of_balls", "curved_ramp"}
+NEED_THE_NEW_ENGINE = {"capsule_pile", "cup_of_balls", "curved_ramp", "l_brackets"}
 DEMOS = [
     pytest.param(path, marks=pytest.mark.skip(reason="needs the engine of bodies made of shapes"))
     if path.stem in NEED_THE_NEW_ENGINE
