@@ -3,7 +3,9 @@
 Every field carries a description, a default and an example, because `rustycs schema` turns these models
 into the schema that editors use to complete and check scene files. Checks that need the whole scene
 (unique names, known materials) live in `scene_problems`, so that each problem can be reported at its own
-place. The navigation helpers at the end (`resolve_annotation`, `model_fields_at`, `child_annotation`) let
+place. Whether a polygon is valid is the engine's decision (`rustycs.polygon`), so that both agree. A
+body's shapes are one list after validation (`Body.shapes`), whether the file wrote `shape` or `shapes`.
+The navigation helpers at the end (`resolve_annotation`, `model_fields_at`, `child_annotation`) let
 overrides and error messages walk the same types as the data, e.g. to suggest a key.
 """
 
