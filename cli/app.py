@@ -9,8 +9,9 @@ from __future__ import annotations
 import sys
 
 import typer
-from rustycs_cli.commands import bench, compare, info, plot, render, run, schema, sweep, validate
-from rustycs_cli.errors import UserError
+
+from .commands import bench, compare, info, plot, render, run, schema, sweep, validate
+from .errors import UserError
 
 app = typer.Typer(
     name="rustycs",

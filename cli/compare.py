@@ -14,7 +14,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from rustycs_cli.errors import UserError
+
+from .errors import UserError
 
 if TYPE_CHECKING:
     import h5py
@@ -157,7 +158,7 @@ def compare_trajectories(
     Raises NotComparable when the files hold different bodies, time steps or frames, and UserError
     when either file is missing or is not a trajectory.
     """
-    from rustycs_cli.trajectory import open_trajectory
+    from .trajectory import open_trajectory
 
     if atol < 0 or rtol < 0:
         raise UserError("--atol and --rtol must not be negative")
@@ -187,7 +188,7 @@ def compare_trajectories(
 
 def _check_comparable(fa: h5py.File, fb: h5py.File) -> tuple[list[str], np.ndarray]:
     """Return the body names and frame steps shared by both files, or raise NotComparable."""
-    from rustycs_cli.trajectory import read_strings
+    from .trajectory import read_strings
 
     names_a, names_b = read_strings(fa[f"{BODIES}/name"]), read_strings(fb[f"{BODIES}/name"])
     if names_a != names_b:

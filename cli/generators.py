@@ -15,17 +15,21 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from rustycs_cli.scene import (
+
+from .scene import (
     BodyTypeChoice,
+    GeneratedChain,
+    GeneratedPolygon,
+    GeneratedSegment,
     Generator,
     Grid,
     Material,
     MaterialChoice,
     Normal,
     NumberChoice,
-    Polygon,
     Pyramid,
     RandomAabb,
+    RandomCapsule,
     RandomCircle,
     RandomObb,
     RandomPolygon,
@@ -94,12 +98,25 @@ class _Draws:
         return spec
 
 
-def _shape(spec: Any, draws: _Draws) -> dict[str, Any]:
-    """One body's shape mapping."""
-    field = "shape"
+def _shape(spec: Any, draws: _Draws, field: str) -> dict[str, Any]:
+    """One body's shape mapping, drawn from the streams named after `field` (shape, shapes.0, ...)."""
     if isinstance(spec, ShapeChoice):
         index, spec = draws.pick(spec.choice, field)
-        field = f"shape.{index}"
+        field = f"{field}.{index}"
+    shape = _geometry(spec, draws, field)
+    shape["offset"] = [
+        draws.value(spec.offset[0], f"{field}.offset.0"),
+        draws.value(spec.offset[1], f"{field}.offset.1"),
+    ]
+    shape["angle"] = draws.value(spec.angle, f"{field}.angle")
+    if spec.material is not None:
+        shape["material"] = draws.value(spec.material, f"{field}.material")
+    shape["sensor"] = spec.sensor
+    return shape
+
+
+def _geometry(spec: Any, draws: _Draws, field: str) -> dict[str, Any]:
+    """A shape mapping's type and size."""
     if isinstance(spec, RandomCircle):
         return {"type": "circle", "radius": draws.value(spec.radius, f"{field}.radius")}
     if isinstance(spec, (RandomAabb, RandomObb)):
@@ -108,8 +125,18 @@ def _shape(spec: Any, draws: _Draws) -> dict[str, Any]:
             "width": draws.value(spec.width, f"{field}.width"),
             "height": draws.value(spec.height, f"{field}.height"),
         }
-    if isinstance(spec, Polygon):
+    if isinstance(spec, RandomCapsule):
+        return {
+            "type": "capsule",
+            "length": draws.value(spec.length, f"{field}.length"),
+            "radius": draws.value(spec.radius, f"{field}.radius"),
+        }
+    if isinstance(spec, GeneratedPolygon):
         return {"type": "polygon", "vertices": [list(v) for v in spec.vertices]}
+    if isinstance(spec, GeneratedSegment):
+        return {"type": "segment", "points": [list(p) for p in spec.points]}
+    if isinstance(spec, GeneratedChain):
+        return {"type": "chain", "points": [list(p) for p in spec.points], "loop": spec.loop}
     assert isinstance(spec, RandomPolygon)
     count = int(draws.value(spec.vertices, f"{field}.vertices"))
     radius = draws.value(spec.radius, f"{field}.radius")
@@ -171,7 +198,13 @@ def generate(generator: Generator, seed: int) -> list[dict[str, Any]]:
         body = {
             "name": f"{generator.name}-{i}",
             "type": draws.value(generator.type, "type"),
-            "shape": _shape(generator.shape, draws),
+            **(
+                {"shape": _shape(generator.shape, draws, "shape")}
+                if generator.shape is not None
+                else {
+                    "shapes": [_shape(s, draws, f"shapes.{k}") for k, s in enumerate(generator.shapes or ())]
+                }
+            ),
             "position": position,
             "velocity": [
                 draws.value(generator.velocity[0], "velocity.0"),
@@ -181,6 +214,13 @@ def generate(generator: Generator, seed: int) -> list[dict[str, Any]]:
             "angular_velocity": draws.value(generator.angular_velocity, "angular_velocity"),
             "material": draws.value(generator.material, "material"),
             "collision_group": generator.collision_group,
+            "collision_category": generator.collision_category,
+            "collision_mask": generator.collision_mask,
+            "linear_damping": draws.value(generator.linear_damping, "linear_damping"),
+            "angular_damping": draws.value(generator.angular_damping, "angular_damping"),
+            "gravity_scale": draws.value(generator.gravity_scale, "gravity_scale"),
+            "fixed_rotation": generator.fixed_rotation,
+            "bullet": generator.bullet,
         }
         if generator.mass is not None:
             body["mass"] = draws.value(generator.mass, "mass")

@@ -16,10 +16,12 @@ from typing import Any
 
 from pydantic import ValidationError
 from pydantic_core import ErrorDetails
-from rustycs_cli.errors import UserError
-from rustycs_cli.generators import expand_generators
-from rustycs_cli.overrides import NAMED_LISTS, apply_overrides
-from rustycs_cli.scene import (
+from yaml.nodes import Node
+
+from .errors import UserError
+from .generators import expand_generators
+from .overrides import NAMED_LISTS, apply_overrides
+from .scene import (
     Loc,
     Scene,
     child_annotation,
@@ -28,7 +30,7 @@ from rustycs_cli.scene import (
     scene_problems,
     union_tags,
 )
-from rustycs_cli.yaml_source import (
+from .yaml_source import (
     Document,
     dump_scene_yaml,
     duplicate_keys,
@@ -36,7 +38,6 @@ from rustycs_cli.yaml_source import (
     parse_document,
     where,
 )
-from yaml.nodes import Node
 
 RESOLVED_HEADER = "# resolved by rustycs: overrides applied, generators expanded"
 
@@ -185,22 +186,22 @@ class _Locator:
             loc, message, key_node = self._explain(error)
             if error["type"] == "extra_forbidden" and "did you mean '" in message:
                 suggested.add((*self._data_path(loc)[:-1], message.split("did you mean '")[1].split("'")[0]))
-            if error["type"] == "missing":
-                missing.append((loc, message))
+            if error["type"] in ("missing", "missing_key"):  # missing_key: ctx 'keys' names its keys
+                missing.append((loc, message, (error.get("ctx") or {}).get("keys", (loc[-1],))))
                 continue
             problems.append(self.problem(loc, message, key_node=key_node))
         problems += [
             self.problem(loc, message)
-            for loc, message in missing
-            if (*self._data_path(loc), loc[-1]) not in suggested
+            for loc, message, keys in missing
+            if not any((*self._data_path(loc), key) in suggested for key in keys)
         ]
         return problems
 
     def _explain(self, error: ErrorDetails) -> tuple[Loc, str, bool]:
         """The place, message and whether to point at the key (not the value) for a pydantic error."""
         loc, kind, ctx = tuple(error["loc"]), error["type"], error.get("ctx") or {}
-        if "at" in ctx:
-            loc = (*loc, ctx["at"])
+        if "at" in ctx:  # a place below the one the error was raised at (a key, an index, or a tuple of them)
+            loc = (*loc, *(ctx["at"] if isinstance(ctx["at"], tuple) else (ctx["at"],)))
         value = error.get("input")
         if kind == "missing":
             item = loc[-1]
@@ -227,7 +228,7 @@ class _Locator:
         message = "expected a list of two values, like [x, y]" if kind == "tuple_type" else error["msg"]
         if isinstance(value, (int, float, str, bool)) and kind not in ("polygon", "aabb_angle", "rect"):
             message += f" (got {value!r})"
-        return loc, message, False
+        return loc, message, bool(ctx.get("at_key"))
 
     def problem(self, loc: Loc, message: str, key_node: bool = False) -> _Problem:
         """The message for a place in the scene data."""
@@ -238,7 +239,7 @@ class _Locator:
             and isinstance(loc[1], int)
             and loc[1] >= self.listed
         ):
-            return self._generated_problem(loc, message)
+            return self._generated_problem(loc, message, key_node)
         path = self._data_path(loc)
         for changed_path, label in reversed(self.changed):
             if path[: len(changed_path)] == changed_path:
@@ -252,12 +253,14 @@ class _Locator:
         text = f"{self.document.source}:{line}:{column}: {self._dotted(path)}: {message}"
         return _Problem((1, line, column), text)
 
-    def _generated_problem(self, loc: Loc, message: str) -> _Problem:
+    def _generated_problem(self, loc: Loc, message: str, key_node: bool) -> _Problem:
         index = int(loc[1]) - (self.listed or 0)
         generator = self.origins[index]
         body = self.bodies[index]["name"]
         rest = self._relative_path(self.data["generators"][generator], loc[2:])
-        problem = self.problem(("generators", generator, *rest), f"generated body '{body}': {message}")
+        problem = self.problem(
+            ("generators", generator, *rest), f"generated body '{body}': {message}", key_node=key_node
+        )
         same = message.split(" (got ")[0]  # the same problem with another drawn value is reported once
         return dataclasses.replace(problem, key=f"{generator} {rest} {same}")
 

@@ -16,16 +16,17 @@ from typing import Any
 
 import yaml
 from pydantic import BaseModel
-from rustycs_cli.scene import (
+
+from .scene import (
     PRESET_MATERIALS,
     Scene,
     child_annotation,
-    default_body_name,
     default_generator_name,
     did_you_mean,
     model_fields_at,
+    written_default_body_name,
 )
-from rustycs_cli.yaml_source import Path, parse_value
+from .yaml_source import Path, parse_value
 
 NAMED_LISTS = ("bodies", "forces", "attractors", "generators")
 
@@ -153,10 +154,9 @@ def _item_names(list_name: str, items: list[Any]) -> list[str]:
     for i, item in enumerate(items):
         item = item if isinstance(item, dict) else {}
         name = item.get("name")
-        shape = item.get("shape")
         if name is None and list_name == "generators":
             name = default_generator_name(i)
-        elif name is None and list_name == "bodies" and isinstance(shape, dict):
-            name = default_body_name(shape.get("type"), i)
+        elif name is None and list_name == "bodies":
+            name = written_default_body_name(item, i)
         names.append(str(name) if name is not None else "")
     return names

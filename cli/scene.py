@@ -3,7 +3,9 @@
 Every field carries a description, a default and an example, because `rustycs schema` turns these models
 into the schema that editors use to complete and check scene files. Checks that need the whole scene
 (unique names, known materials) live in `scene_problems`, so that each problem can be reported at its own
-place. The navigation helpers at the end (`resolve_annotation`, `model_fields_at`, `child_annotation`) let
+place. Whether a polygon is valid is the engine's decision (`rustycs.polygon`), so that both agree. A
+body's shapes are one list after validation (`Body.shapes`), whether the file wrote `shape` or `shapes`.
+The navigation helpers at the end (`resolve_annotation`, `model_fields_at`, `child_annotation`) let
 overrides and error messages walk the same types as the data, e.g. to suggest a key.
 """
 
@@ -11,11 +13,10 @@ from __future__ import annotations
 
 import difflib
 import functools
-import math
 import operator
 import types
 import typing
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import Annotated, Any, Literal
 
 from pydantic import (
@@ -23,14 +24,23 @@ from pydantic import (
     ConfigDict,
     Discriminator,
     Field,
+    ModelWrapValidatorHandler,
+    SerializerFunctionWrapHandler,
     Tag,
+    ValidationError,
     ValidationInfo,
     WithJsonSchema,
     field_validator,
+    model_serializer,
     model_validator,
 )
 from pydantic.fields import FieldInfo
-from pydantic_core import PydanticCustomError
+from pydantic_core import ErrorDetails, InitErrorDetails, PydanticCustomError
+
+from rustycs import defaults
+from rustycs.materials import MATERIALS
+from rustycs.polygon import MAX_POLYGON_VERTICES, polygon_problem
+from rustycs.shapes import MAX_CHAIN_POINTS
 
 Loc = tuple[str | int, ...]
 Problem = tuple[Loc, str]
@@ -38,12 +48,6 @@ Problem = tuple[Loc, str]
 _VEC2_SCHEMA = {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2}
 Vec2 = Annotated[tuple[float, float], WithJsonSchema(_VEC2_SCHEMA)]
 BodyType = Literal["static", "dynamic", "kinematic"]
-MAX_VERTICES = 8
-
-# Tolerances of the polygon checks: below them a polygon counts as degenerate.
-_MIN_AREA = 1e-10  # m^2
-_MIN_EDGE = 1e-9  # m
-_MIN_SINE = 1e-9  # sine of the turn at a vertex, below it three points are collinear
 
 
 def did_you_mean(word: str, candidates: Sequence[str]) -> str:
@@ -105,12 +109,12 @@ class Material(_Model):
 
 
 PRESET_MATERIALS: dict[str, Material] = {
-    "default": Material(density=0.1, restitution=0.5, friction=0.6),
-    "rubber": Material(density=0.9, restitution=0.6, friction=0.8),
-    "plastic": Material(density=1.2, restitution=0.5, friction=0.6),
-    "stone": Material(density=2.5, restitution=0.2, friction=0.4),
-    "metal": Material(density=7.8, restitution=0.1, friction=0.2),
+    name: Material(density=m.density, restitution=m.restitution, friction=m.friction)
+    for name, m in MATERIALS.items()
 }
+_PRESET_VALUES = ", ".join(
+    f"{name} ({m.density:g}, {m.restitution:g}, {m.friction:g})" for name, m in PRESET_MATERIALS.items()
+)
 
 
 def _material_tag(value: Any) -> str | None:
@@ -131,103 +135,227 @@ MaterialRef = _one_of(
 
 # ------------------------------------------------------------------------------------------------- shapes
 
+_AABB_TURNS = "an aabb never rotates, so its angle must be 0: use shape type obb for a turned box"
 
-class Circle(_Model):
-    """A circle centred on the body's position."""
+
+def _no_turn_of_aabb(angle: Any) -> Any:
+    """`angle` when it is 0; raises for any other angle (or distribution) of an aabb."""
+    if not (_is_number(angle) and angle == 0):
+        raise PydanticCustomError("aabb_angle", _AABB_TURNS)
+    return angle
+
+
+def _problem(
+    kind: str, message: str, at: Any = None, at_key: bool = False, **ctx: Any
+) -> PydanticCustomError:
+    """A validation error located below the place it is raised at: `at` is a key, an index or a tuple of
+    them; `at_key` points at that key itself rather than its value."""
+    if at is not None:
+        ctx["at"] = at
+    if at_key:
+        ctx["at_key"] = True
+    return PydanticCustomError(kind, message, ctx)
+
+
+class _Shape(_Model):
+    """The keys every shape of a body takes besides its geometry: where it sits on the body, what it is
+    made of, and whether it only detects overlaps."""
+
+    type: str = Field(description="Shape kind.")  # narrowed by each shape; declared here to come first
+    offset: Vec2 = Field(
+        (0.0, 0.0),
+        description="Where the shape's origin sits in the body's frame [x, y], m.",
+        examples=[[0, -0.9]],
+    )
+    angle: float = Field(
+        0.0, description="The shape's rotation in the body's frame, rad, counter-clockwise.", examples=[0.5]
+    )
+    material: MaterialRef | None = Field(
+        None,
+        description="The shape's material: a preset, a name from `materials`, or an inline "
+        "{density, restitution, friction}. Default: the body's.",
+        examples=["rubber"],
+    )
+    sensor: bool = Field(
+        False,
+        description="A sensor detects overlaps but never collides: it pushes nothing and adds no mass.",
+        examples=[True],
+    )
+
+    has_area: typing.ClassVar[bool] = True
+
+    @property
+    def adds_mass(self) -> bool:
+        """Whether the shape gives its body mass (sensors, segments and chains give none)."""
+        return self.has_area and not self.sensor
+
+
+class Circle(_Shape):
+    """A circle centred on the shape's origin."""
 
     type: Literal["circle"] = Field(description="Shape kind.", examples=["circle"])
     radius: float = Field(gt=0, description="Radius, m. > 0.", examples=[0.5])
 
 
-class Aabb(_Model):
-    """An axis-aligned box centred on the body's position. It never rotates (infinite rotational inertia),
-    so its body's angle must be 0; use `obb` for a box that turns."""
+class Aabb(_Shape):
+    """An axis-aligned box centred on the shape's origin. It never rotates, so neither it nor its body
+    may be given an angle (its body has fixed rotation); use `obb` for a box that turns."""
 
     type: Literal["aabb"] = Field(description="Shape kind.", examples=["aabb"])
     width: float = Field(gt=0, description="Extent along x, m. > 0.", examples=[12.0])
     height: float = Field(gt=0, description="Extent along y, m. > 0.", examples=[0.5])
 
+    _angle_is_zero = field_validator("angle")(_no_turn_of_aabb)
 
-class Obb(_Model):
-    """An oriented box centred on the body's position; the body's `angle` sets its orientation."""
+
+class Obb(_Shape):
+    """An oriented box centred on the shape's origin; the body's `angle` (and the shape's) turn it."""
 
     type: Literal["obb"] = Field(description="Shape kind.", examples=["obb"])
-    width: float = Field(gt=0, description="Extent along the body's local x axis, m. > 0.", examples=[1.0])
-    height: float = Field(gt=0, description="Extent along the body's local y axis, m. > 0.", examples=[1.0])
+    width: float = Field(gt=0, description="Extent along the shape's local x axis, m. > 0.", examples=[1.0])
+    height: float = Field(gt=0, description="Extent along the shape's local y axis, m. > 0.", examples=[1.0])
 
 
-def polygon_problem(vertices: Sequence[tuple[float, float]]) -> tuple[str, int | None] | None:
-    """Why these vertices are not a valid polygon (and the vertex to blame), or None when they are:
-    3..8 distinct points, convex in either winding, not self-intersecting, not degenerate."""
-    n = len(vertices)
-    if not 3 <= n <= MAX_VERTICES:
-        return f"a polygon has 3 to {MAX_VERTICES} vertices, this one has {n}", None
-    pts = [(float(x), float(y)) for x, y in vertices]
-    for i in range(n):
-        for j in range(i):
-            if math.dist(pts[i], pts[j]) < _MIN_EDGE:
-                return f"vertex {i} repeats vertex {j}: the polygon is degenerate", i
-    for i in range(n):
-        for j in range(i + 2, n):
-            if (j + 1) % n != i and _segments_cross(pts[i], pts[(i + 1) % n], pts[j], pts[(j + 1) % n]):
-                return f"edges {i}-{(i + 1) % n} and {j}-{(j + 1) % n} cross: the polygon self-intersects", j
-    turns = []
-    for i in range(n):
-        a, b, c = pts[i - 1], pts[i], pts[(i + 1) % n]
-        ab, bc = (b[0] - a[0], b[1] - a[1]), (c[0] - b[0], c[1] - b[1])
-        cross = ab[0] * bc[1] - ab[1] * bc[0]
-        if abs(cross) <= _MIN_SINE * math.hypot(*ab) * math.hypot(*bc):
-            return f"vertex {i} lies on the line through its neighbours: the polygon is degenerate", i
-        turns.append(cross > 0)
-    for i in range(n):
-        if turns[i] != turns[0] and turns.count(turns[i]) <= turns.count(turns[0]):
-            return f"the polygon is not convex: it turns the other way at vertex {i}", i
-    if any(t != turns[0] for t in turns):
-        return "the polygon is not convex: it turns the other way at vertex 0", 0
-    area = 0.5 * abs(sum(pts[i - 1][0] * pts[i][1] - pts[i][0] * pts[i - 1][1] for i in range(n)))
-    if area < _MIN_AREA:
-        return f"the polygon's area {area:.3g} m^2 is too small: it is degenerate", None
-    return None
+class _PolygonGeometry(_Model):
+    """A simple polygon's vertices; whether they are one is the engine's decision (`polygon_problem`)."""
 
-
-def _segments_cross(
-    p: tuple[float, float], q: tuple[float, float], r: tuple[float, float], s: tuple[float, float]
-) -> bool:
-    """Whether the segments pq and rs share a point (touching counts)."""
-
-    def orient(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float]) -> float:
-        return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-
-    def within(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float]) -> bool:
-        return min(a[0], b[0]) <= c[0] <= max(a[0], b[0]) and min(a[1], b[1]) <= c[1] <= max(a[1], b[1])
-
-    d1, d2, d3, d4 = orient(r, s, p), orient(r, s, q), orient(p, q, r), orient(p, q, s)
-    if ((d1 > 0) != (d2 > 0)) and ((d3 > 0) != (d4 > 0)) and 0 not in (d1, d2, d3, d4):
-        return True
-    return any(
-        d == 0 and within(a, b, c)
-        for d, a, b, c in ((d1, r, s, p), (d2, r, s, q), (d3, p, q, r), (d4, p, q, s))
-    )
-
-
-class Polygon(_Model):
-    """A convex polygon. Vertices are body-local, placed exactly as written relative to the body's
-    position; the body rotates about the polygon's area centroid."""
-
-    type: Literal["polygon"] = Field(description="Shape kind.", examples=["polygon"])
     vertices: list[Vec2] = Field(
-        description="3 to 8 points [x, y], m, body-local; convex, either winding.",
+        description=f"3 to {MAX_POLYGON_VERTICES} points [x, y], m, in the shape's frame: a simple polygon "
+        "(no two edges cross or touch), convex or not, either winding.",
         examples=[[[0, 0], [1, 0], [0, 1]]],
+        json_schema_extra={"minItems": 3, "maxItems": MAX_POLYGON_VERTICES},
     )
+
+    @field_validator("vertices", mode="before")
+    @classmethod
+    def _not_too_many(cls, vertices: Any) -> Any:
+        """The engine's cheap count check, before each vertex is validated: a list of a million vertices
+        is refused at once."""
+        if isinstance(vertices, list) and len(vertices) > MAX_POLYGON_VERTICES:
+            _raise_polygon_problem(vertices)
+        return vertices
 
     @field_validator("vertices")
     @classmethod
-    def _valid_polygon(cls, vertices: list[tuple[float, float]]) -> list[tuple[float, float]]:
-        problem = polygon_problem(vertices)
-        if problem is not None:
-            message, vertex = problem
-            raise PydanticCustomError("polygon", message, {"at": vertex} if vertex is not None else {})
+    def _simple_polygon(cls, vertices: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        _raise_polygon_problem(vertices)
         return vertices
+
+
+def _raise_polygon_problem(vertices: Any) -> None:
+    """Raise the engine's problem with these vertices (at the vertex it names), if it finds one."""
+    problem = polygon_problem(vertices)
+    if problem is not None:
+        raise _problem("polygon", problem.message, at=problem.vertex)
+
+
+class Polygon(_PolygonGeometry, _Shape):
+    """A polygon. Vertices are placed exactly as written in the shape's frame; its body's centre of mass
+    is the area centroid."""
+
+    type: Literal["polygon"] = Field(description="Shape kind.", examples=["polygon"])
+
+
+class Capsule(_Shape):
+    """Two half-discs joined by a box: the centres of the end circles are `length` apart on the shape's
+    local x axis, centred on its origin."""
+
+    type: Literal["capsule"] = Field(description="Shape kind.", examples=["capsule"])
+    length: float = Field(
+        ge=0,
+        description="Distance between the centres of the end circles, m, along the shape's x axis. >= 0 "
+        "(0: a circle).",
+        examples=[1.0],
+    )
+    radius: float = Field(gt=0, description="Radius of the end circles, m. > 0.", examples=[0.25])
+
+
+def _count_of(points: Any, least: int, most: int, what: str) -> Any:
+    """`points` when a list of `least`..`most` items (or not a list: the item checks report it). Checked
+    before the items, so that a list far too long is refused at once."""
+    if isinstance(points, list) and not least <= len(points) <= most:
+        counts = f"exactly {least}" if least == most else f"{least} to {most}"
+        raise _problem("point_count", f"{what} has {counts} points, this one has {len(points)}")
+    return points
+
+
+class _SegmentGeometry(_Model):
+    """A segment's two end points."""
+
+    points: list[Vec2] = Field(
+        description="The two end points [[x0, y0], [x1, y1]], m, in the shape's frame.",
+        examples=[[[-1, 0], [1, 0]]],
+        json_schema_extra={"minItems": 2, "maxItems": 2},
+    )
+
+    @field_validator("points", mode="before")
+    @classmethod
+    def _two_points(cls, points: Any) -> Any:
+        return _count_of(points, 2, 2, "a segment")
+
+    @field_validator("points")
+    @classmethod
+    def _apart(cls, points: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        if points[0] == points[1]:
+            raise _problem("segment", "the segment's two points are the same: it has no length", at=1)
+        return points
+
+
+class Segment(_SegmentGeometry, _Shape):
+    """A line between two points, with no area and no mass."""
+
+    type: Literal["segment"] = Field(description="Shape kind.", examples=["segment"])
+    has_area: typing.ClassVar[bool] = False
+
+
+class _ChainGeometry(_Model):
+    """A chain's points and whether it closes."""
+
+    points: list[Vec2] = Field(
+        description=f"2 to {MAX_CHAIN_POINTS} points [x, y], m, in the shape's frame, joined in order by "
+        "segments; no two consecutive points equal.",
+        examples=[[[-3, 0], [0, -1], [3, 0]]],
+        json_schema_extra={"minItems": 2, "maxItems": MAX_CHAIN_POINTS},
+    )
+    loop: bool = Field(
+        False,
+        description="true: a segment also joins the last point to the first (at least 3 points; do not "
+        "repeat the first point at the end).",
+        examples=[True],
+    )
+
+    @field_validator("points", mode="before")
+    @classmethod
+    def _point_count(cls, points: Any) -> Any:
+        return _count_of(points, 2, MAX_CHAIN_POINTS, "a chain")
+
+    @model_validator(mode="after")
+    def _no_zero_length_segment(self) -> Any:
+        points = self.points
+        if self.loop and len(points) < 3:
+            raise _problem("chain", f"a loop needs at least 3 points, this one has {len(points)}", at="loop")
+        for i in range(1, len(points)):
+            if points[i] == points[i - 1]:
+                raise _problem(
+                    "chain",
+                    f"point {i} repeats point {i - 1}: consecutive points must differ",
+                    at=("points", i),
+                )
+        if self.loop and points[-1] == points[0]:
+            raise _problem(
+                "chain",
+                "the last point repeats the first: a loop joins its last point to its first by itself",
+                at=("points", len(points) - 1),
+            )
+        return self
+
+
+class Chain(_ChainGeometry, _Shape):
+    """A polyline of segments, with no area and no mass; bodies slide and roll along it smoothly, nothing
+    catches at the joints between its segments."""
+
+    type: Literal["chain"] = Field(description="Shape kind.", examples=["chain"])
+    has_area: typing.ClassVar[bool] = False
 
 
 def _shape_tag(value: Any) -> str | None:
@@ -242,29 +370,100 @@ def _shape_tag(value: Any) -> str | None:
     return kind
 
 
-_SHAPE_ERROR = "expected a shape {type: circle | aabb | obb | polygon, ...}"
-Shape = _one_of(_shape_tag, "shape", _SHAPE_ERROR, circle=Circle, aabb=Aabb, obb=Obb, polygon=Polygon)
+def _shape_error(kinds: Iterable[str]) -> str:
+    return f"expected a shape {{type: {' | '.join(kinds)}, ...}}"
+
+
+_SHAPES = {
+    "circle": Circle,
+    "aabb": Aabb,
+    "obb": Obb,
+    "polygon": Polygon,
+    "capsule": Capsule,
+    "segment": Segment,
+    "chain": Chain,
+}
+Shape = _one_of(_shape_tag, "shape", _shape_error(_SHAPES), **_SHAPES)
+
+
+def _line_error(error: ErrorDetails) -> InitErrorDetails:
+    """A reported validation error as one that can be raised again (with more errors)."""
+    return InitErrorDetails(
+        type=PydanticCustomError(error["type"], error["msg"], error.get("ctx")),
+        loc=error["loc"],
+        input=error["input"],
+    )
+
+
+def _shape_keys(cls: type[BaseModel], data: Any, handler: ModelWrapValidatorHandler[Any]) -> Any:
+    """Validate a mapping that gives its shape as `shape` or its shapes as `shapes`: giving both (reported
+    at the second) or neither is a problem, reported with the others in the mapping."""
+    if not isinstance(data, dict):
+        return handler(data)
+    given = [key for key, value in data.items() if key in ("shape", "shapes") and value is not None]
+    if len(given) == 1:
+        return handler(data)
+    if given:
+        problem = _problem(
+            "shape_keys", "give either `shape` or `shapes`, not both", at=given[1], at_key=True
+        )
+    else:
+        problem = _problem(
+            "missing_key",
+            "missing key 'shape' (or 'shapes' for several)",
+            at="shape",
+            keys=("shape", "shapes"),
+        )
+    errors: list[InitErrorDetails] = []
+    try:
+        handler(data)
+    except ValidationError as err:
+        errors = [_line_error(e) for e in err.errors()]
+    errors.append(InitErrorDetails(type=problem, loc=(), input=data))
+    raise ValidationError.from_exception_data(cls.__name__, errors)
+
 
 # ------------------------------------------------------------------------------------------------- bodies
 
 
 class Body(_Model):
-    """One rigid body."""
+    """One rigid body, made of one shape (`shape`) or several fixed to it (`shapes`)."""
+
+    model_config = ConfigDict(
+        json_schema_extra={"oneOf": [{"required": ["shape"]}, {"required": ["shapes"]}]}
+    )
 
     name: str | None = Field(
         None,
         min_length=1,
-        description="Unique name: the body's id in every output. Default: '<shape type>-<index in bodies>'.",
+        description="Unique name: the body's id in every output. Default: '<shape type>-<index in bodies>', "
+        "or 'compound-<index in bodies>' for a body of several shapes.",
         examples=["crate"],
     )
     type: BodyType = Field(
-        "dynamic",
+        defaults.BODY_TYPE,
         description="static: never moves; dynamic: moved by forces and contacts; kinematic: moves with its "
         "own velocity, pushes dynamic bodies, unaffected by forces and contacts.",
         examples=["static"],
     )
-    shape: Shape = Field(
-        description="The body's shape (chosen by its `type`).", examples=[{"type": "circle", "radius": 0.2}]
+    shape: Shape | None = Field(
+        None,
+        description="The body's one shape (chosen by its `type`). Give `shape` or `shapes`.",
+        examples=[{"type": "circle", "radius": 0.2}],
+    )
+    # After validation, `shapes` lists the body's shapes in either form ([shape] for a body given `shape`,
+    # which is still written back as `shape`).
+    shapes: list[Shape] | None = Field(
+        None,
+        min_length=1,
+        description="Several shapes fixed to the body, each placed by its `offset` and `angle`. Give `shape` "
+        "or `shapes`.",
+        examples=[
+            [
+                {"type": "obb", "width": 2.0, "height": 0.2, "offset": [0, -0.9]},
+                {"type": "circle", "radius": 0.5, "sensor": True},
+            ]
+        ],
     )
     position: Vec2 = Field(
         description="The body's origin [x, y], m (the centre for circles and boxes).", examples=[[0, 2]]
@@ -273,15 +472,17 @@ class Body(_Model):
         (0.0, 0.0), description="Initial centre-of-mass velocity [vx, vy], m/s.", examples=[[1, 0]]
     )
     angle: float = Field(
-        0.0, description="Initial orientation, rad, counter-clockwise. Must be 0 for aabb.", examples=[0.3]
+        0.0,
+        description="Initial orientation, rad, counter-clockwise. Must be 0 for a body with an aabb shape.",
+        examples=[0.3],
     )
     angular_velocity: float = Field(
         0.0, description="Initial angular velocity, rad/s, counter-clockwise.", examples=[2.0]
     )
     material: MaterialRef = Field(
-        "default",
-        description="A preset (default, rubber, plastic, stone, metal), a name from `materials`, or an "
-        "inline {density, restitution, friction}.",
+        defaults.MATERIAL,
+        description=f"A preset ({', '.join(PRESET_MATERIALS)}), a name from `materials`, or an "
+        "inline {density, restitution, friction}; the material of every shape that names none.",
         examples=["rubber", {"density": 2.0, "restitution": 0.1, "friction": 0.9}],
     )
     mass: float | None = Field(
@@ -291,22 +492,79 @@ class Body(_Model):
         examples=[3.0],
     )
     collision_group: int = Field(
-        0,
+        defaults.COLLISION_GROUP,
         description="Two bodies with the same non-zero group never collide with each other (0: collides "
         "with everything).",
         examples=[1],
     )
+    collision_category: int = Field(
+        defaults.COLLISION_CATEGORY,
+        ge=0,
+        description="Bits: the categories this body belongs to. Two bodies collide only when "
+        "(category_a & mask_b) != 0 and (category_b & mask_a) != 0.",
+        examples=[2],
+    )
+    collision_mask: int = Field(
+        defaults.COLLISION_MASK,
+        ge=-1,
+        description="Bits: the categories this body collides with (-1: all).",
+        examples=[5],
+    )
+    linear_damping: float = Field(
+        defaults.LINEAR_DAMPING,
+        ge=0,
+        description="1/s: the velocity decays as dv/dt = -c v. >= 0.",
+        examples=[0.1],
+    )
+    angular_damping: float = Field(
+        defaults.ANGULAR_DAMPING,
+        ge=0,
+        description="1/s: the angular velocity decays as dw/dt = -c w. >= 0.",
+        examples=[0.1],
+    )
+    gravity_scale: float = Field(
+        defaults.GRAVITY_SCALE,
+        description="Multiplies the world force (the sum of `forces`) for this body; attractors are "
+        "unaffected.",
+        examples=[0.5],
+    )
+    fixed_rotation: bool = Field(False, description="true: the body never rotates.", examples=[True])
+    bullet: bool = Field(
+        False,
+        description="true: continuous collision against dynamic bodies too, so that a fast body never "
+        "passes through anything.",
+        examples=[True],
+    )
+
+    _shape_or_shapes = model_validator(mode="wrap")(_shape_keys)
 
     @field_validator("angle")
     @classmethod
     def _aabb_does_not_turn(cls, angle: float, info: ValidationInfo) -> float:
-        shape = info.data.get("shape")
-        if shape is not None and shape.type == "aabb" and angle != 0:
-            raise PydanticCustomError(
-                "aabb_angle",
-                "an aabb never rotates, so its angle must be 0: use shape type obb for a turned box",
-            )
+        shapes = info.data.get("shapes") or [info.data.get("shape")]
+        if any(isinstance(shape, Aabb) for shape in shapes):
+            return _no_turn_of_aabb(angle)
         return angle
+
+    @model_validator(mode="after")
+    def _one_list_of_shapes(self) -> Body:
+        form = "shape" if self.shape is not None else "shapes"
+        if self.shape is not None:
+            self.shapes = [self.shape]
+        if self.type == "dynamic" and not any(shape.adds_mass for shape in self.shapes or ()):
+            raise _problem(
+                "no_area",
+                "a dynamic body needs at least one shape with area (not a sensor, segment or chain)",
+                at=form,
+                at_key=True,
+            )
+        return self
+
+    @model_serializer(mode="wrap")
+    def _written_as_given(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        data = handler(self)
+        data.pop("shapes" if self.shape is not None else "shape", None)
+        return data
 
 
 class Force(_Model):
@@ -335,7 +593,10 @@ class Attractor(_Model):
         examples=[5.0],
     )
     min_distance: float = Field(
-        0.01, gt=0, description="Softening: d is taken as max(d, min_distance), m.", examples=[0.1]
+        defaults.MIN_DISTANCE,
+        gt=0,
+        description="Softening: d is taken as max(d, min_distance), m.",
+        examples=[0.1],
     )
 
 
@@ -356,7 +617,7 @@ class World(_Model):
     """Time stepping and world-wide settings."""
 
     tick_rate: float = Field(
-        60.0, gt=0, description="Ticks per second; dt = 1 / tick_rate. > 0.", examples=[240]
+        defaults.TICK_RATE, gt=0, description="Ticks per second; dt = 1 / tick_rate. > 0.", examples=[240]
     )
     ticks: int = Field(
         600,
@@ -365,12 +626,14 @@ class World(_Model):
         examples=[1200],
     )
     precision: int = Field(
-        10,
+        defaults.PRECISION,
         ge=1,
         description="Solver iterations per tick (the thesis's collision precision). >= 1.",
         examples=[10],
     )
-    gravitational_constant: float = Field(1.0, ge=0, description="G used by attractors.", examples=[1.0])
+    gravitational_constant: float = Field(
+        defaults.GRAVITATIONAL_CONSTANT, ge=0, description="G used by attractors.", examples=[1.0]
+    )
     bounds: Rect | None = Field(
         None,
         description="A dynamic body whose centre leaves this box is deactivated (frozen, no longer "
@@ -378,7 +641,7 @@ class World(_Model):
         examples=[{"min": [-100, -100], "max": [100, 100]}],
     )
     restitution_threshold: float = Field(
-        1.0,
+        defaults.RESTITUTION_THRESHOLD,
         ge=0,
         description="Contacts approaching slower than this, m/s, do not bounce (addition).",
         examples=[1.0],
@@ -503,7 +766,34 @@ GeneratedMaterial = _one_of(
 )
 
 
-class RandomCircle(_Model):
+class _GeneratedShape(_Model):
+    """The keys every generated shape takes besides its geometry; numbers may be distributions."""
+
+    type: str = Field(description="Shape kind.")  # narrowed by each shape; declared here to come first
+    offset: NumberPair = Field(
+        (0.0, 0.0),
+        description="Where the shape's origin sits in the body's frame [x, y], m; each a number or a "
+        "distribution.",
+        examples=[[0, {"uniform": [-0.1, 0.1]}]],
+    )
+    angle: Number = Field(
+        0.0,
+        description="The shape's rotation in the body's frame, rad (number or distribution).",
+        examples=[{"uniform": [-0.5, 0.5]}],
+    )
+    material: GeneratedMaterial | None = Field(
+        None,
+        description="Material name, inline material, or {choice: [...]}. Default: the body's.",
+        examples=["rubber"],
+    )
+    sensor: bool = Field(
+        False,
+        description="A sensor detects overlaps but never collides: it pushes nothing and adds no mass.",
+        examples=[True],
+    )
+
+
+class RandomCircle(_GeneratedShape):
     """A circle whose radius may be drawn."""
 
     type: Literal["circle"] = Field(description="Shape kind.", examples=["circle"])
@@ -512,8 +802,8 @@ class RandomCircle(_Model):
     )
 
 
-class RandomAabb(_Model):
-    """An axis-aligned box whose size may be drawn."""
+class RandomAabb(_GeneratedShape):
+    """An axis-aligned box whose size may be drawn (its angle, and its bodies', must be 0)."""
 
     type: Literal["aabb"] = Field(description="Shape kind.", examples=["aabb"])
     width: Number = Field(description="Width, m (number or distribution).", examples=[1.0])
@@ -521,8 +811,10 @@ class RandomAabb(_Model):
         description="Height, m (number or distribution).", examples=[{"uniform": [0.2, 1]}]
     )
 
+    _angle_is_zero = field_validator("angle")(_no_turn_of_aabb)
 
-class RandomObb(_Model):
+
+class RandomObb(_GeneratedShape):
     """An oriented box whose size may be drawn."""
 
     type: Literal["obb"] = Field(description="Shape kind.", examples=["obb"])
@@ -530,12 +822,44 @@ class RandomObb(_Model):
     height: Number = Field(description="Height, m (number or distribution).", examples=[0.5])
 
 
-class RandomPolygon(_Model):
+class RandomCapsule(_GeneratedShape):
+    """A capsule whose length and radius may be drawn."""
+
+    type: Literal["capsule"] = Field(description="Shape kind.", examples=["capsule"])
+    length: Number = Field(
+        description="Distance between the centres of the end circles, m (number or distribution).",
+        examples=[{"uniform": [0.5, 1.5]}],
+    )
+    radius: Number = Field(
+        description="Radius of the end circles, m (number or distribution).", examples=[0.2]
+    )
+
+
+class GeneratedPolygon(_PolygonGeometry, _GeneratedShape):
+    """A polygon of fixed vertices, placed on its bodies by an offset and angle that may be drawn."""
+
+    type: Literal["polygon"] = Field(description="Shape kind.", examples=["polygon"])
+
+
+class GeneratedSegment(_SegmentGeometry, _GeneratedShape):
+    """A segment of fixed points, placed on its bodies by an offset and angle that may be drawn."""
+
+    type: Literal["segment"] = Field(description="Shape kind.", examples=["segment"])
+
+
+class GeneratedChain(_ChainGeometry, _GeneratedShape):
+    """A chain of fixed points, placed on its bodies by an offset and angle that may be drawn."""
+
+    type: Literal["chain"] = Field(description="Shape kind.", examples=["chain"])
+
+
+class RandomPolygon(_GeneratedShape):
     """A random convex polygon inscribed in a circle: `vertices` points at jittered, evenly spread angles."""
 
     type: Literal["random_polygon"] = Field(description="Shape kind.", examples=["random_polygon"])
     vertices: Number = Field(
-        description="Vertex count, a whole number 3..8 (number, {uniform_int: [lo, hi]} or {choice: [...]}).",
+        description=f"Vertex count, a whole number 3..{MAX_POLYGON_VERTICES} "
+        "(number, {uniform_int: [lo, hi]} or {choice: [...]}).",
         examples=[{"uniform_int": [3, 8]}],
     )
     radius: Number = Field(
@@ -555,10 +879,10 @@ class RandomPolygon(_Model):
             if isinstance(spec, NumberChoice)
             else None
         )
-        if values is None or any(v != int(v) or not 3 <= v <= MAX_VERTICES for v in values):
+        if values is None or any(v != int(v) or not 3 <= v <= MAX_POLYGON_VERTICES for v in values):
             raise PydanticCustomError(
                 "vertex_count",
-                f"the vertex count must be a whole number from 3 to {MAX_VERTICES}: a number, "
+                f"the vertex count must be a whole number from 3 to {MAX_POLYGON_VERTICES}: a number, "
                 "{uniform_int: [lo, hi]} or {choice: [...]}",
                 {},
             )
@@ -569,10 +893,13 @@ _GENERATED_SHAPES = {
     "circle": RandomCircle,
     "aabb": RandomAabb,
     "obb": RandomObb,
-    "polygon": Polygon,
+    "polygon": GeneratedPolygon,
+    "capsule": RandomCapsule,
+    "segment": GeneratedSegment,
+    "chain": GeneratedChain,
     "random_polygon": RandomPolygon,
 }
-_GENERATED_SHAPE_ERROR = "expected a shape {type: circle | aabb | obb | polygon | random_polygon, ...}"
+_GENERATED_SHAPE_ERROR = _shape_error(_GENERATED_SHAPES)
 GeneratedSingleShape = _one_of(_shape_tag, "shape", _GENERATED_SHAPE_ERROR, **_GENERATED_SHAPES)
 
 
@@ -666,6 +993,8 @@ class Generator(_Model):
     """Many bodies from one entry, named '<name>-<i>'. Numeric fields may be distributions; positions are
     drawn uniformly in `region` unless a `layout` places them."""
 
+    model_config = ConfigDict(json_schema_extra=Body.model_config["json_schema_extra"])
+
     name: str | None = Field(
         None,
         min_length=1,
@@ -681,12 +1010,25 @@ class Generator(_Model):
         examples=[500],
     )
     type: GeneratedBodyType = Field(
-        "dynamic", description="Body type of every body, or {choice: [...]}.", examples=["dynamic"]
+        defaults.BODY_TYPE, description="Body type of every body, or {choice: [...]}.", examples=["dynamic"]
     )
-    shape: GeneratedShape = Field(
+    shape: GeneratedShape | None = Field(
+        None,
         description="Shape, whose sizes may be distributions; also {type: random_polygon, vertices, radius} "
-        "and {choice: [shape, ...]}.",
+        "and {choice: [shape, ...]}. Give `shape` or `shapes`.",
         examples=[{"type": "circle", "radius": {"uniform": [0.1, 0.3]}}],
+    )
+    shapes: list[GeneratedShape] | None = Field(
+        None,
+        min_length=1,
+        description="Several shapes fixed to each body, as in `shape`, each placed by its `offset` and "
+        "`angle` (numbers or distributions). Give `shape` or `shapes`.",
+        examples=[
+            [
+                {"type": "obb", "width": 1.0, "height": 0.2},
+                {"type": "obb", "width": 0.2, "height": 1.0, "offset": [-0.4, 0.4]},
+            ]
+        ],
     )
     region: Rect | None = Field(
         None,
@@ -714,7 +1056,7 @@ class Generator(_Model):
         examples=[{"normal": [0, 1]}],
     )
     material: GeneratedMaterial = Field(
-        "default",
+        defaults.MATERIAL,
         description="Material name, inline material, or {choice: [...]}.",
         examples=[{"choice": ["rubber", "plastic", "stone", "metal"]}],
     )
@@ -723,7 +1065,34 @@ class Generator(_Model):
         description="Mass override, kg (number or distribution). Default: area x density.",
         examples=[1.0],
     )
-    collision_group: int = Field(0, description="collision_group of every body.", examples=[0])
+    collision_group: int = Field(
+        defaults.COLLISION_GROUP, description="collision_group of every body.", examples=[0]
+    )
+    collision_category: int = Field(
+        defaults.COLLISION_CATEGORY, ge=0, description="collision_category of every body.", examples=[2]
+    )
+    collision_mask: int = Field(
+        defaults.COLLISION_MASK, ge=-1, description="collision_mask of every body.", examples=[5]
+    )
+    linear_damping: Number = Field(
+        defaults.LINEAR_DAMPING,
+        description="linear_damping of every body, 1/s (number or distribution).",
+        examples=[{"uniform": [0, 0.5]}],
+    )
+    angular_damping: Number = Field(
+        defaults.ANGULAR_DAMPING,
+        description="angular_damping of every body, 1/s (number or distribution).",
+        examples=[0.1],
+    )
+    gravity_scale: Number = Field(
+        defaults.GRAVITY_SCALE,
+        description="gravity_scale of every body (number or distribution).",
+        examples=[{"choice": [0.5, 1]}],
+    )
+    fixed_rotation: bool = Field(False, description="fixed_rotation of every body.", examples=[True])
+    bullet: bool = Field(False, description="bullet of every body.", examples=[True])
+
+    _shape_or_shapes = model_validator(mode="wrap")(_shape_keys)
 
     @model_validator(mode="after")
     def _placement(self) -> Generator:
@@ -800,9 +1169,8 @@ class Scene(_Model):
     )
     materials: dict[str, Material] = Field(
         {},
-        description="User materials by name; they extend, and may override, the presets default (0.1, 0.5, "
-        "0.6), rubber (0.9, 0.6, 0.8), plastic (1.2, 0.5, 0.6), stone (2.5, 0.2, 0.4) and metal (7.8, 0.1, "
-        "0.2) as (density, restitution, friction).",
+        description=f"User materials by name; they extend, and may override, the presets {_PRESET_VALUES} "
+        "as (density, restitution, friction).",
         examples=[{"ice": {"density": 0.9, "restitution": 0.05, "friction": 0.02}}],
     )
     bodies: list[Body] = Field(
@@ -835,7 +1203,7 @@ class Scene(_Model):
     def _default_names(self) -> Scene:
         for i, body in enumerate(self.bodies):
             if body.name is None:
-                body.name = default_body_name(body.shape.type, i)
+                body.name = default_body_name([shape.type for shape in body.shapes or ()], i)
         for i, generator in enumerate(self.generators):
             if generator.name is None:
                 generator.name = default_generator_name(i)
@@ -848,9 +1216,23 @@ class Scene(_Model):
         return self.materials.get(body.material) or PRESET_MATERIALS[body.material]
 
 
-def default_body_name(shape_type: Any, index: int) -> str:
-    """The name of an unnamed body: '<shape type>-<index in bodies>'."""
-    return f"{shape_type}-{index}"
+def default_body_name(shape_types: Sequence[Any], index: int) -> str:
+    """The name of an unnamed body: '<shape type>-<index in bodies>', or 'compound-<index>' for several."""
+    return f"{shape_types[0] if len(shape_types) == 1 else 'compound'}-{index}"
+
+
+def written_default_body_name(body: Mapping[str, Any], index: int) -> str:
+    """The default name of a body as written (before validation)."""
+    kinds = [shape.get("type") if isinstance(shape, dict) else None for _, shape in _written_shapes(body)]
+    return default_body_name(kinds, index)
+
+
+def _written_shapes(entry: Mapping[str, Any]) -> list[tuple[Loc, Any]]:
+    """The shapes a body or generator writes (before validation), each with its place in the entry."""
+    shapes = entry.get("shapes")
+    if entry.get("shape") is not None or not isinstance(shapes, list):
+        return [(("shape",), entry.get("shape"))]
+    return [(("shapes", k), shape) for k, shape in enumerate(shapes)]
 
 
 def default_generator_name(index: int) -> str:
@@ -883,12 +1265,18 @@ def scene_problems(data: Mapping[str, Any]) -> list[Problem]:
         elif isinstance(name, str):
             seen[name] = int(loc[1])
 
+    def check_generated_material(ref: Any, loc: Loc) -> None:
+        for k, choice in enumerate(_choices(ref)):
+            check_material(choice, (*loc, "choice", k) if ref is not choice else loc)
+
     body_names: dict[str, int] = {}
     for i, body in entries("bodies"):
-        shape = body.get("shape")
-        default = default_body_name(shape.get("type") if isinstance(shape, dict) else None, i)
-        check_unique(body.get("name", default), ("bodies", i, "name"), body_names, "body")
+        name = body.get("name", written_default_body_name(body, i))
+        check_unique(name, ("bodies", i, "name"), body_names, "body")
         check_material(body.get("material"), ("bodies", i, "material"))
+        for place, shape in _written_shapes(body):
+            if isinstance(shape, dict):
+                check_material(shape.get("material"), ("bodies", i, *place, "material"))
     generator_names: dict[str, int] = {}
     for g, generator in entries("generators"):
         check_unique(
@@ -897,13 +1285,20 @@ def scene_problems(data: Mapping[str, Any]) -> list[Problem]:
             generator_names,
             "generator",
         )
-        material = generator.get("material")
-        if isinstance(material, dict) and isinstance(material.get("choice"), list):
-            for k, ref in enumerate(material["choice"]):
-                check_material(ref, ("generators", g, "material", "choice", k))
-        else:
-            check_material(material, ("generators", g, "material"))
+        check_generated_material(generator.get("material"), ("generators", g, "material"))
+        for place, spec in _written_shapes(generator):
+            for k, shape in enumerate(_choices(spec)):
+                if isinstance(shape, dict):
+                    at = (*place, "choice", k) if shape is not spec else place
+                    check_generated_material(shape.get("material"), ("generators", g, *at, "material"))
     return problems
+
+
+def _choices(spec: Any) -> list[Any]:
+    """The options of a written {choice: [...]} (not a shape that has a `type`), or [spec] itself."""
+    if isinstance(spec, dict) and "type" not in spec and isinstance(spec.get("choice"), list):
+        return list(spec["choice"])
+    return [spec]
 
 
 # --------------------------------------------------------------------------------- navigating the types

@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from rustycs_cli.loading import LoadedScene
+    from .loading import LoadedScene
 
 EXIT_CODES = {"complete": 0, "diverged": 1, "interrupted": 130}
 COMPILE_SECONDS = 30  # rough first-compilation time of the engine, for the notice
@@ -44,8 +44,8 @@ def load_source(path: str | Path, overrides: tuple[str, ...] = (), seed: int | N
     A stored scene already has its original overrides applied; they are kept in front of the new ones
     in `overrides`, as the record of how the scene was made.
     """
-    from rustycs_cli.loading import load_scene, load_scene_text
-    from rustycs_cli.trajectory import looks_like_trajectory, open_trajectory, read_scene
+    from .loading import load_scene, load_scene_text
+    from .trajectory import looks_like_trajectory, open_trajectory, read_scene
 
     if not looks_like_trajectory(path):
         return load_scene(path, overrides, seed)
@@ -64,17 +64,17 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
     silences the one-line compilation notice; `started` (time.perf_counter) is when the command
     began, for the summary's wall time.
     """
-    from rustycs_cli.build import build_world, material_names
-    from rustycs_cli.summary import SummaryTracker, sidecar_path, to_json, write_text_atomic
-    from rustycs_cli.trajectory import (
+    import rustycs
+
+    from .build import build_world, material_names
+    from .summary import SummaryTracker, sidecar_path, to_json, write_text_atomic
+    from .trajectory import (
         BLOCK_FRAMES,
         Frame,
         TrajectoryWriter,
         check_output_path,
         package_version,
     )
-
-    import rustycs
 
     started = time.perf_counter() if started is None else started
     scene = loaded.scene

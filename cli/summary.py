@@ -17,7 +17,8 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     import numpy as np
     from rich.table import Table
-    from rustycs_cli.trajectory import Frame
+
+    from .trajectory import Frame
 
 _EXTREMES = ("max_penetration", "contact_count", "max_speed")  # per-frame observables summed up or maxed
 REST_SPEED = 1e-3  # m/s: a dynamic body slower than this (and REST_ANGULAR_SPEED) is at rest
@@ -78,7 +79,7 @@ class SummaryTracker:
 
     def add_block(self, frames: dict[str, np.ndarray], count: int) -> None:
         """Account for the first `count` rows of a frame buffer filled by `World.step(record=...)`."""
-        from rustycs_cli.trajectory import Frame
+        from .trajectory import Frame
 
         if count:
             self._account(Frame.from_buffer(frames, 0, None), Frame.from_buffer(frames, count - 1, None),
@@ -163,7 +164,7 @@ def _finite(value: Any) -> Any:
 
 def write_text_atomic(path: Path, text: str) -> None:
     """Write `text` under a temporary name in the same folder, then rename it to `path`."""
-    from rustycs_cli.trajectory import temporary_path
+    from .trajectory import temporary_path
 
     temporary = temporary_path(path)
     try:

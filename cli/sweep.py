@@ -24,8 +24,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from rustycs_cli.errors import UserError
-from rustycs_cli.sweep_values import SweptKey
+from .errors import UserError
+from .sweep_values import SweptKey
 
 if TYPE_CHECKING:
     from concurrent.futures import Executor, Future
@@ -95,7 +95,7 @@ def plan_sweep(
 
     Raises one UserError listing the problems of all invalid variants, before anything runs.
     """
-    from rustycs_cli.simulation import load_source
+    from .simulation import load_source
 
     combinations = list(itertools.product(*(key.values for key in swept)))
     width = len(str(len(combinations) - 1))
@@ -154,8 +154,8 @@ def finished_outcome(variant: Variant) -> VariantOutcome | None:
     A stored trajectory counts only when its status is complete, its resolved scene hashes the same
     and it ran the requested number of ticks (and frame interval, when one is forced).
     """
-    from rustycs_cli.summary import sidecar_path
-    from rustycs_cli.trajectory import open_trajectory, read_attrs
+    from .summary import sidecar_path
+    from .trajectory import open_trajectory, read_attrs
 
     output = variant.task.output
     if not output.exists():
@@ -184,7 +184,7 @@ def finished_outcome(variant: Variant) -> VariantOutcome | None:
 
 def run_variant(task: VariantTask) -> VariantOutcome:
     """Load and run one variant, turning any failure into an outcome rather than an exception."""
-    from rustycs_cli.simulation import load_source, run_scene
+    from .simulation import load_source, run_scene
 
     try:
         loaded = load_source(task.scene, task.overrides)
@@ -256,7 +256,7 @@ def dispatch(
     if local == "threads":
         from concurrent.futures import ThreadPoolExecutor
 
-        from rustycs_cli.simulation import THREAD_STOP
+        from .simulation import THREAD_STOP
 
         THREAD_STOP.clear()
         with ThreadPoolExecutor(window) as pool:
@@ -414,9 +414,9 @@ def run_sweep(
 def _compile_engine_once(quiet: bool) -> None:
     """Compile the engine's kernels here, once, when the disk cache is cold: local workers then load
     them from the cache instead of each compiling them at the same time."""
-    from rustycs_cli.simulation import COMPILE_SECONDS, warm_up
-
     import rustycs
+
+    from .simulation import COMPILE_SECONDS, warm_up
 
     if rustycs.compile_needed():
         if not quiet:
@@ -458,7 +458,7 @@ def write_tables(out_dir: Path, rows: list[dict[str, Any]]) -> None:
     import csv
     import io
 
-    from rustycs_cli.summary import to_json, write_text_atomic
+    from .summary import to_json, write_text_atomic
 
     text = to_json(rows)
     write_text_atomic(out_dir / "sweep.json", text + "\n")

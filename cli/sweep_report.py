@@ -8,7 +8,7 @@ from contextlib import contextmanager
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from rustycs_cli.sweep import SweepResult, Variant, VariantOutcome
+    from .sweep import SweepResult, Variant, VariantOutcome
 
 # summary statistics shown in the table (all of them are in sweep.csv): key -> column header
 TABLE_STATISTICS = {

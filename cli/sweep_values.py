@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from typing import Any
 
-from rustycs_cli.errors import UserError
+from .errors import UserError
 
 MAX_RANGE_VALUES = 100_000
 RANGE = re.compile(r"range\((?P<args>[^()]*)\)", re.IGNORECASE)
@@ -69,7 +69,8 @@ def parse_swept_key(option: str) -> SweptKey:
 def _parse(option: str, text: str) -> Any:
     """The value as `--set` reads it (YAML, with 1e-3 a number)."""
     import yaml
-    from rustycs_cli.yaml_source import parse_value
+
+    from .yaml_source import parse_value
 
     try:
         return parse_value(text)

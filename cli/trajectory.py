@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from rustycs_cli.errors import UserError
+from .errors import UserError
 
 if TYPE_CHECKING:  # imported lazily at run time, so that `rustycs --help` stays fast
     import h5py

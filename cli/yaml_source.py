@@ -13,8 +13,9 @@ from dataclasses import dataclass
 from typing import Any
 
 import yaml
-from rustycs_cli.errors import UserError
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
+
+from .errors import UserError
 
 Path = tuple[str | int, ...]
 

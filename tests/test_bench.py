@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from rich.console import Console
+
 from rustycs_cli.bench import peers, quality, suite
 from rustycs_cli.bench.report import print_report
 from rustycs_cli.bench.spec import BenchScene, BodySpec, describe

@@ -9,6 +9,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
+
 from rustycs_cli.compare import NotComparable, compare_trajectories
 from rustycs_cli.errors import UserError
 

@@ -10,6 +10,7 @@ import pytest
 from conftest import FIVE_BODIES
 from matplotlib.colors import to_rgb
 from PIL import Image
+
 from rustycs_cli.render.plot import labels_for
 
 

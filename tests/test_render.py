@@ -9,6 +9,7 @@ import h5py
 import numpy as np
 import pytest
 from PIL import Image
+
 from rustycs_cli.render.colors import BACKGROUND, HITBOX, MATERIAL_COLORS, VELOCITY, material_color
 from rustycs_cli.render.frames import iter_frames
 

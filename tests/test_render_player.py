@@ -7,6 +7,7 @@ import re
 from pathlib import Path
 
 import pytest
+
 from rustycs_cli.render.colors import BACKGROUND, MATERIAL_COLORS
 
 CHROMIUM = Path("/usr/bin/chromium")

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from rustycs_cli.summary import DESCRIPTIONS, SummaryTracker, sidecar_path, to_json, write_text_atomic
 from rustycs_cli.trajectory import Frame
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
 from rustycs_cli.build import build_world, material_names
 from rustycs_cli.loading import load_scene_text
 from rustycs_cli.scene import PRESET_MATERIALS
@@ -54,9 +55,22 @@ def test_build_world_carries_settings_and_bodies() -> None:
     assert material_names(scene) == ["stone", "metal", "inline", "default", "default"]
 
 
-def test_presets_are_the_engines() -> None:
+def test_a_scene_leaving_keys_out_builds_the_engines_default_world_and_body() -> None:
     import rustycs
 
+    text = "bodies:\n  - {shape: {type: circle, radius: 1}, position: [0, 0]}\n"
+    scene = load_scene_text(text, "d.yaml").scene
+    built, default = build_world(scene), rustycs.World()
+    default.add_body(rustycs.Circle(1.0))
+    for setting in ("dt", "precision", "gravitational_constant", "restitution_threshold"):
+        assert getattr(built, setting) == getattr(default, setting), setting
+    assert list(built.body_types) == list(default.body_types) == ["dynamic"]
+    assert built.masses[0] == default.masses[0] == math.pi * rustycs.MATERIALS["default"].density
+    assert material_names(scene) == ["default"]
     assert {name: (m.density, m.restitution, m.friction) for name, m in PRESET_MATERIALS.items()} == {
-        name: (m.density, m.restitution, m.friction) for name, m in rustycs.MATERIALS.items()
-    }
+        "default": (0.1, 0.5, 0.6),
+        "rubber": (0.9, 0.6, 0.8),
+        "plastic": (1.2, 0.5, 0.6),
+        "stone": (2.5, 0.2, 0.4),
+        "metal": (7.8, 0.1, 0.2),
+    }  # the spec's presets

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib.util
+import itertools
 import json
 import math
 from pathlib import Path
@@ -10,12 +11,25 @@ from typing import Any
 
 import pytest
 import yaml
+
 from rustycs_cli.loading import load_scene
-from rustycs_cli.scene import PRESET_MATERIALS, Circle, Scene
+from rustycs_cli.scene import PRESET_MATERIALS, Capsule, Chain, Circle, Obb, Polygon, Scene
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = sorted((ROOT / "scenes").rglob("*.yaml"))
-DEMOS = ["all_platforms", "material_bounce", "pile", "pool", "slide_and_fall", "slope", "solar_system"]
+SHAPES_DEMOS = ["capsule_pile", "cup_of_balls", "curved_ramp", "l_brackets"]  # bodies made of shapes
+DEMOS = sorted(
+    [
+        "all_platforms",
+        "material_bounce",
+        "pile",
+        "pool",
+        "slide_and_fall",
+        "slope",
+        "solar_system",
+        *SHAPES_DEMOS,
+    ]
+)
 BENCH = ["S1_bounce", "S2_pyramid20", "S3_pyramid40", "S4_rain1000", "S5_polypile500", "S6_orbits"]
 
 
@@ -96,6 +110,73 @@ def test_material_bounce_has_the_five_materials() -> None:
     assert [b.position for b in balls] == [(x, 5.0) for x in (-4, -2, 0, 2, 4)]
     assert all(isinstance(b.shape, Circle) and b.shape.radius == 0.2 for b in balls)
     assert scene.world.tick_rate == 240 and set(PRESET_MATERIALS) == {b.material for b in balls}
+
+
+def test_cup_of_balls_carries_its_balls_inside() -> None:
+    floor, cup, *balls = load_scene(ROOT / "scenes" / "cup_of_balls.yaml").scene.bodies
+    assert floor.type == "static" and cup.type == "dynamic" and cup.position == (0, 3)
+    shapes = cup.shapes or []
+    assert all(isinstance(s, Obb) for s in shapes) and [s.offset for s in shapes] == [
+        (0, -0.9),
+        (-0.9, 0),
+        (0.9, 0),
+    ]
+    bottom_top = cup.position[1] + shapes[0].offset[1] + shapes[0].height / 2
+    inner = shapes[2].offset[0] - shapes[2].width / 2
+    assert (bottom_top, inner) == pytest.approx((2.2, 0.8))
+    assert len(balls) == 5
+    for ball in balls:
+        assert isinstance(ball.shape, Circle)
+        (x, y), r = ball.position, ball.shape.radius
+        assert abs(x) + r < inner and y - r > bottom_top
+        assert all(math.dist(ball.position, other.position) > 2 * r for other in balls if other is not ball)
+
+
+def test_curved_ramp_is_a_quarter_circle_of_64_points() -> None:
+    ramp, floor, ball = load_scene(ROOT / "scenes" / "curved_ramp.yaml").scene.bodies
+    assert isinstance(ramp.shape, Chain) and ramp.type == "static" and not ramp.shape.loop
+    points = ramp.shape.points
+    assert len(points) == 64 and points[0] == (0, 3) and points[-1] == (3, 0)
+    assert all(abs(math.dist(p, (3, 3)) - 3) < 1e-6 for p in points)
+    turns = [math.atan2(y - 3, x - 3) % (2 * math.pi) for x, y in points]  # pi at the top, 3 pi / 2 below
+    steps = [b - a for a, b in itertools.pairwise(turns)]
+    assert steps == pytest.approx([0.5 * math.pi / 63] * 63, abs=1e-6)  # evenly spread, in order
+    assert floor.position[0] - floor.shape.width / 2 == 3  # the floor goes on where the ramp ends
+    assert isinstance(ball.shape, Circle)
+    assert 0 < 3 - math.dist(ball.position, (3, 3)) - ball.shape.radius < 0.1  # just inside, at the top
+
+
+def test_capsule_pile_starts_apart_inside_its_container() -> None:
+    container, *capsules = load_scene(ROOT / "scenes" / "capsule_pile.yaml").scene.bodies
+    assert container.type == "static" and [s.type for s in container.shapes or []] == ["aabb"] * 3
+    assert len(capsules) == 40 and all(isinstance(c.shape, Capsule) for c in capsules)
+    reach = [c.shape.length / 2 + c.shape.radius for c in capsules]
+    assert all(0.15 + 0.08 <= r <= 0.4 + 0.15 for r in reach)
+    for k, capsule in enumerate(capsules):
+        (x, y) = capsule.position
+        assert abs(x) + reach[k] < 3.0 and y - reach[k] > 0  # inside the walls, above the floor
+        for j in range(k):
+            assert math.dist(capsule.position, capsules[j].position) > reach[k] + reach[j]
+
+
+def test_l_brackets_are_concave_hexagons_that_start_apart_inside_the_box() -> None:
+    floor, left, right, *brackets = load_scene(ROOT / "scenes" / "l_brackets.yaml").scene.bodies
+    assert [b.type for b in (floor, left, right)] == ["static"] * 3 and len(brackets) == 40
+    inner = right.position[0] - right.shape.width / 2
+    for k, bracket in enumerate(brackets):
+        assert isinstance(bracket.shape, Polygon) and bracket.type == "dynamic"
+        vertices = bracket.shape.vertices
+        turns = [
+            (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
+            for a, b, c in zip(
+                vertices[-1:] + vertices[:-1], vertices, vertices[1:] + vertices[:1], strict=True
+            )
+        ]
+        assert len(vertices) == 6 and sum(t < 0 for t in turns) == 1  # one reflex corner: an L
+        reach = max(math.hypot(x, y) for x, y in vertices)  # about the origin, whatever the angle
+        (x, y) = bracket.position
+        assert abs(x) + reach < inner and y - reach > 0
+        assert all(math.dist(bracket.position, other.position) > 2 * reach for other in brackets[:k])
 
 
 def _peers() -> Any:

@@ -6,9 +6,11 @@ import math
 from pathlib import Path
 
 import pytest
+
+from rustycs.polygon import polygon_problem
 from rustycs_cli.errors import UserError
 from rustycs_cli.loading import load_scene, load_scene_text
-from rustycs_cli.scene import Body, Circle, Material, Polygon, polygon_problem
+from rustycs_cli.scene import Body, Capsule, Circle, Material, Polygon
 
 HEAD = """\
 seed: 5
@@ -134,6 +136,9 @@ def test_random_polygons_are_convex_and_inscribed() -> None:
         radii = [math.hypot(x, y) for x, y in vertices]
         assert max(radii) - min(radii) < 1e-12 and 0.2 <= radii[0] <= 0.5
     assert counts == set(range(3, 9))
+    many = by_prefix(generated(TWO_GENERATORS, "generators.rocks.shape.vertices=256"), "rocks")
+    assert {len(b.shape.vertices) for b in many} == {256}  # split into convex pieces by the engine
+    assert all(polygon_problem(b.shape.vertices) is None for b in many)
 
 
 def test_shape_choice_and_body_type_choice() -> None:
@@ -247,6 +252,141 @@ generators:
 def test_generator_problems_are_reported_at_the_generator(
     tmp_path: Path, generator: str, expected: str
 ) -> None:
+    path = tmp_path / "gen.yaml"
+    path.write_text(f"seed: 0\ngenerators:\n  - {generator}\n")
+    with pytest.raises(UserError) as raised:
+        load_scene(path)
+    assert len(raised.value.messages) == 1
+    assert raised.value.messages[0].startswith(f"{path}:{expected}")
+
+
+def test_existing_generators_make_the_same_bodies_as_before_bodies_made_of_shapes() -> None:
+    """The resolved text (every generated number written out) of the two generators, pinned from before
+    generators took capsules, `shapes` and the new body keys."""
+    loaded = load_scene_text(TWO_GENERATORS, "x")
+    assert loaded.sha256 == "58f6e25866baf83d68a928a999d7220d537128107c0fef886d673161a374000d"
+
+
+def test_new_fields_leave_the_other_fields_draws_unchanged() -> None:
+    base = by_prefix(generated(TWO_GENERATORS), "rain")
+    damped = by_prefix(
+        generated(
+            TWO_GENERATORS,
+            "generators.rain.linear_damping={uniform: [0, 1]}",
+            "generators.rain.gravity_scale={normal: [1, 0.1]}",
+            "generators.rain.shape.offset=[{uniform: [0, 0.1]}, 0]",
+        ),
+        "rain",
+    )
+    assert [(b.position, b.material) for b in damped] == [(b.position, b.material) for b in base]
+    assert [b.shape.radius for b in damped] == [b.shape.radius for b in base]
+    assert len({b.linear_damping for b in damped}) == 20 and all(0 <= b.linear_damping < 1 for b in damped)
+    assert all(0 <= b.shape.offset[0] < 0.1 for b in damped)
+
+
+def test_capsules_and_the_new_body_keys() -> None:
+    text = """\
+generators:
+  - name: pills
+    count: 200
+    shape: {type: capsule, length: {uniform: [0.5, 1.5]}, radius: {choice: [0.1, 0.2]}}
+    region: {min: [0, 0], max: [10, 10]}
+    linear_damping: {uniform: [0, 0.5]}
+    angular_damping: 0.25
+    gravity_scale: {choice: [0.5, 2]}
+    fixed_rotation: true
+    bullet: true
+    collision_category: 4
+    collision_mask: 3
+"""
+    bodies = generated(text)
+    assert all(isinstance(b.shape, Capsule) for b in bodies)
+    lengths = [b.shape.length for b in bodies]
+    assert 0.5 <= min(lengths) < 0.52 and 1.48 < max(lengths) < 1.5
+    assert {b.shape.radius for b in bodies} == {0.1, 0.2}
+    assert 0 <= min(b.linear_damping for b in bodies) < max(b.linear_damping for b in bodies) < 0.5
+    assert {b.angular_damping for b in bodies} == {0.25} and {b.gravity_scale for b in bodies} == {0.5, 2}
+    assert all(b.fixed_rotation and b.bullet for b in bodies)
+    assert {(b.collision_category, b.collision_mask) for b in bodies} == {(4, 3)}
+
+
+COMPOUND = """\
+seed: 3
+generators:
+  - name: cups
+    count: 50
+    shapes:
+      - {type: obb, width: 1, height: 0.1, offset: [0, -0.45]}
+      - {type: obb, width: 0.1, height: {uniform: [0.5, 1]}, offset: [{uniform: [-0.5, -0.4]}, 0],
+         angle: {normal: [0, 0.1]}, material: {choice: [rubber, stone]}}
+      - {choice: [{type: circle, radius: 0.2, sensor: true}, {type: capsule, length: 0.3, radius: 0.1}]}
+    region: {min: [-10, 0], max: [10, 10]}
+    material: metal
+"""
+
+
+def test_compound_generators_draw_each_shape_and_write_shapes() -> None:
+    loaded = load_scene_text(COMPOUND, "cups.yaml")
+    bodies = loaded.scene.bodies
+    assert [b.name for b in bodies] == [f"cups-{i}" for i in range(50)]
+    assert all(b.shape is None and len(b.shapes or ()) == 3 and b.material == "metal" for b in bodies)
+    floors, walls, extras = zip(*(b.shapes or () for b in bodies), strict=True)
+    assert {(s.type, s.width, s.height, s.offset, s.angle, s.material) for s in floors} == {
+        ("obb", 1, 0.1, (0, -0.45), 0, None)
+    }
+    assert all(-0.5 <= s.offset[0] < -0.4 and s.offset[1] == 0 and 0.5 <= s.height < 1 for s in walls)
+    assert len({s.angle for s in walls}) == 50 and {s.material for s in walls} == {"rubber", "stone"}
+    assert {(s.type, s.sensor) for s in extras} == {("circle", True), ("capsule", False)}
+    assert "shapes: [{type: obb, offset: [0.0, -0.45], width: 1.0, height: 0.1}, " in loaded.text
+    assert generated(COMPOUND) == bodies  # deterministic
+    # a change of one shape's distribution leaves the other shapes' draws alone
+    changed = generated(COMPOUND, "generators.cups.shapes.1.angle={uniform: [0, 1]}")
+    assert [(b.shapes or [])[1].offset for b in changed] == [s.offset for s in walls]
+    assert [(b.shapes or [])[2] for b in changed] == list(extras)
+
+
+@pytest.mark.parametrize(
+    ("generator", "expected"),
+    [
+        (
+            "{name: g, count: 1, region: {min: [0, 0], max: [1, 1]}}",
+            "3:5: generators.g: missing key 'shape' (or 'shapes' for several)",
+        ),
+        (
+            "{name: g, count: 1, shape: {type: circle, radius: 1}, shapes: [{type: circle, radius: 1}],\n"
+            "     region: {min: [0, 0], max: [1, 1]}}",
+            "3:59: generators.g.shapes: give either `shape` or `shapes`, not both",
+        ),
+        (
+            "{name: g, count: 1, shapes: [{type: circle, radius: 1, material: stne}],\n"
+            "     region: {min: [0, 0], max: [1, 1]}}",
+            "3:70: generators.g.shapes.0.material: unknown material 'stne' (did you mean 'stone'?)",
+        ),
+        (
+            "{name: g, count: 1, shapes: [{choice: [{type: circle, radius: 1, material: {choice: [rubber,\n"
+            "     metl]}}]}], region: {min: [0, 0], max: [1, 1]}}",
+            "4:6: generators.g.shapes.0.choice.0.material.choice.1: unknown material 'metl'",
+        ),
+        (
+            "{name: g, count: 1, shapes: [{type: aabb, width: 1, height: 1, angle: {uniform: [0, 1]}}],\n"
+            "     region: {min: [0, 0], max: [1, 1]}}",
+            "3:75: generators.g.shapes.0.angle: an aabb never rotates, so its angle must be 0",
+        ),
+        (
+            "{name: g, count: 3, shapes: [{type: capsule, length: {uniform: [-1, -0.5]}, radius: 1}],\n"
+            "     region: {min: [0, 0], max: [1, 1]}}",
+            "3:58: generators.g.shapes.0.length: generated body 'g-0': Input should be greater than or equal "
+            "to 0 (got -0.78",
+        ),
+        (
+            "{name: g, count: 3, shape: {type: chain, points: [[0, 0], [1, 0]]}, region: {min: [0, 0],\n"
+            "     max: [1, 1]}}",
+            "3:25: generators.g.shape: generated body 'g-0': a dynamic body needs at least one shape with "
+            "area",
+        ),
+    ],
+)
+def test_shape_problems_of_generators(tmp_path: Path, generator: str, expected: str) -> None:
     path = tmp_path / "gen.yaml"
     path.write_text(f"seed: 0\ngenerators:\n  - {generator}\n")
     with pytest.raises(UserError) as raised:

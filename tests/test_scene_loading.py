@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import math
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+
 from rustycs_cli.errors import UserError
 from rustycs_cli.loading import load_scene, load_scene_text
 from rustycs_cli.scene import Aabb, Circle, Material, Obb, Polygon
@@ -88,7 +90,7 @@ def test_unknown_top_level_key_and_missing_key(tmp_path: Path) -> None:
     path, messages = problems(tmp_path, "wrld: {}\nbodies:\n  - {name: b, position: [0, 0]}\n")
     assert messages == [
         f"{path}:1:1: wrld: unknown key 'wrld' (did you mean 'world'?)",
-        f"{path}:3:5: bodies.b: missing key 'shape'",
+        f"{path}:3:5: bodies.b: missing key 'shape' (or 'shapes' for several)",
     ]
 
 
@@ -134,14 +136,14 @@ def test_non_positive_sizes_densities_masses_tick_rates(
     ("vertices", "column", "message"),
     [
         (
-            "[[0, 0], [2, 0], [1, 0.5], [1, 2]]",
-            55,
-            "vertices.2: the polygon is not convex: it turns the other way at vertex 2",
-        ),
-        (
             "[[0, 0], [1, 1], [1, 0], [0, 1]]",
             55,
-            "vertices.2: edges 0-1 and 2-3 cross: the polygon self-intersects",
+            "vertices.2: edges 0-1 and 2-3 cross: the polygon intersects itself",
+        ),
+        (  # reported at the first vertex of the later of the crossing edges
+            "[[0, 0], [4, 0], [4, 1], [1, 3], [3, 3], [0, 1]]",
+            71,
+            "vertices.4: edges 2-3 and 4-5 cross: the polygon intersects itself",
         ),
         (
             "[[0, 0], [1, 0], [2, 0], [1, 1]]",
@@ -160,23 +162,10 @@ def test_non_positive_sizes_densities_masses_tick_rates(
         ),
         (
             "["
-            + ", ".join(
-                f"[{x}, {y}]"
-                for x, y in [
-                    (2, 0),
-                    (1.5, 1),
-                    (1, 1.4),
-                    (0, 1.5),
-                    (-1, 1.4),
-                    (-1.5, 1),
-                    (-2, 0),
-                    (-1, -1),
-                    (1, -1),
-                ]
-            )
+            + ", ".join(f"[{math.cos(k / 40.8):.6f}, {math.sin(k / 40.8):.6f}]" for k in range(257))
             + "]",
             38,
-            "vertices: a polygon has 3 to 8 vertices, this one has 9",
+            "vertices: a polygon has 3 to 256 vertices, this one has 257",
         ),
     ],
 )
@@ -185,11 +174,15 @@ def test_bad_polygons(tmp_path: Path, vertices: str, column: int, message: str) 
     assert messages == [f"{path}:3:{column}: bodies.b.shape.{message}"]
 
 
-def test_good_polygons_in_either_winding() -> None:
+def test_good_polygons_convex_or_not_in_either_winding() -> None:
+    circle = [[math.cos(k / 40.7), math.sin(k / 40.7)] for k in range(256)]
     for vertices in (
         [[0, 0], [1, 0], [0, 1]],
         [[0, 0], [0, 1], [1, 0]],
         [[0, 0], [2, 0], [2, 1], [1, 2], [0, 1]],
+        [[0, 0], [2, 0], [1, 0.5], [1, 2]],  # concave
+        [[0, 0], [0.6, 0], [0.6, 0.15], [0.15, 0.15], [0.15, 0.6], [0, 0.6]][::-1],  # an L, clockwise
+        circle,  # 256 vertices
     ):
         scene = load_scene_text(one_body(f"{{type: polygon, vertices: {vertices}}}"), "p.yaml").scene
         assert isinstance(scene.bodies[0].shape, Polygon)
@@ -197,8 +190,10 @@ def test_good_polygons_in_either_winding() -> None:
 
 def test_pentagram_is_self_intersecting(tmp_path: Path) -> None:
     star = "[[0, 1], [0.59, -0.81], [-0.95, 0.31], [0.95, 0.31], [-0.59, -0.81]]"
-    _, messages = problems(tmp_path, one_body(f"{{type: polygon, vertices: {star}}}"))
-    assert len(messages) == 1 and "the polygon self-intersects" in messages[0]
+    path, messages = problems(tmp_path, one_body(f"{{type: polygon, vertices: {star}}}"))
+    assert messages == [
+        f"{path}:3:62: bodies.b.shape.vertices.2: edges 0-1 and 2-3 cross: the polygon intersects itself"
+    ]
 
 
 def test_pairs_must_be_lists_of_two(tmp_path: Path) -> None:
@@ -218,7 +213,7 @@ def test_unknown_shape_type(tmp_path: Path) -> None:
     path, messages = problems(tmp_path, one_body("{type: circel, radius: 1}"))
     assert messages == [
         f"{path}:3:19: bodies.b.shape.type: unknown shape type 'circel' (did you mean "
-        "'circle'?); expected one of: circle, aabb, obb, polygon"
+        "'circle'?); expected one of: circle, aabb, obb, polygon, capsule, segment, chain"
     ]
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 import pytest
+
 from rustycs_cli.errors import UserError
 from rustycs_cli.loading import load_scene_text
 from rustycs_cli.overrides import apply_overrides

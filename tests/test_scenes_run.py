@@ -9,7 +9,15 @@ from pathlib import Path
 import pytest
 
 SCENES = Path(__file__).resolve().parent.parent / "scenes"
-DEMOS = sorted(SCENES.glob("*.yaml"))
+# TODO(issue "Bodies made of shapes"): run these once the engine builds bodies made of shapes; until then
+# they are only validated (tests/test_scene_files.py).
+NEED_THE_NEW_ENGINE = {"capsule_pile", "cup_of_balls", "curved_ramp", "l_brackets"}
+DEMOS = [
+    pytest.param(path, marks=pytest.mark.skip(reason="needs the engine of bodies made of shapes"))
+    if path.stem in NEED_THE_NEW_ENGINE
+    else path
+    for path in sorted(SCENES.glob("*.yaml"))
+]
 BENCH = sorted((SCENES / "bench").glob("*.yaml"))
 
 
@@ -20,7 +28,7 @@ def run(cli, path: Path, tmp_path: Path, *args: str) -> dict:  # noqa: ANN001
 
 
 @pytest.mark.usefixtures("compiled_engine")
-@pytest.mark.parametrize("path", DEMOS, ids=[p.stem for p in DEMOS])
+@pytest.mark.parametrize("path", DEMOS, ids=lambda path: path.stem)
 def test_demo_scene_runs_to_the_end(cli, path: Path, tmp_path: Path) -> None:  # noqa: ANN001
     summary = run(cli, path, tmp_path, "--every", "10")
     assert summary["status"] == "complete"

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import h5py
 import pytest
+
 from rustycs_cli.errors import UserError
 from rustycs_cli.sweep_values import parse_swept_key, parse_swept_keys
 
@@ -263,9 +264,8 @@ def test_signal_stops_a_pool_sweep(tiny, tmp_path, signum, whole_group, local):
 
 
 def test_cold_engine_is_compiled_once_before_the_workers(cli, tiny, tmp_path, monkeypatch, compiled_engine):
-    import rustycs_cli.simulation
-
     import rustycs
+    import rustycs_cli.simulation
 
     out = tmp_path / "c"
     warmed = []  # for each warm-up: how many variants had run before it

@@ -7,6 +7,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
+
 from rustycs_cli.errors import UserError
 from rustycs_cli.summary import SummaryTracker
 from rustycs_cli.trajectory import (

@@ -21,7 +21,7 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from rustycs_cli.bench.spec import BenchScene, BodySpec
+from .spec import BenchScene, BodySpec
 
 PYMUNK_ITERATIONS = 10
 PYMUNK_COLLISION_SLOP = 0.005

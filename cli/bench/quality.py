@@ -11,7 +11,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from rustycs_cli.bench.spec import BenchScene, BodySpec
+
+from .spec import BenchScene, BodySpec
 
 # Which measures each scene reports (scaling scenes are circles in a container).
 METRICS: dict[str, tuple[str, ...]] = {

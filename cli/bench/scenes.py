@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from rustycs_cli.errors import UserError
+from ..errors import UserError
 
 SCENE_IDS = ("S1", "S2", "S3", "S4", "S5", "S6")
 SCALING_SIZES = (1000, 4000, 16000)

@@ -11,12 +11,12 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from rustycs_cli.errors import UserError
+from ..errors import UserError
 
 if TYPE_CHECKING:
-    from rustycs_cli.scene import Scene
-
     import rustycs
+
+    from ..scene import Scene
 
 Vec = tuple[float, float]
 

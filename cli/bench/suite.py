@@ -16,9 +16,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from rustycs_cli.bench import runner
-from rustycs_cli.bench.quality import METRICS
-from rustycs_cli.bench.scenes import SCALING_SIZES, SCALING_TICKS, scaling_ref
+from . import runner
+from .quality import METRICS
+from .scenes import SCALING_SIZES, SCALING_TICKS, scaling_ref
 
 RECORDED_SCENE = "S4"  # the yardstick: recording every tick of S4 costs at most 20 %
 PEER_SETTINGS = {
@@ -139,9 +139,9 @@ def _compile_times(reps: int, progress: Callable[[str], None]) -> dict[str, Any]
 
 
 def _meta(plan: Plan) -> dict[str, Any]:
-    from rustycs_cli.bench import peers
-
     import rustycs
+
+    from . import peers
 
     versions = {"rustycs": rustycs.__version__, "commit": _git_commit()}
     if len(plan.engines) > 1:

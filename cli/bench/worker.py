@@ -27,8 +27,8 @@ ENGINES = ("rustycs", "pymunk", "pyb2d3")
 
 def load(ref: str) -> Any:
     """The LoadedScene of a scene file or of `scaling:N`."""
-    from rustycs_cli.bench.scenes import SCALING_PREFIX, scaling_scene_text
-    from rustycs_cli.loading import load_scene, load_scene_text
+    from ..loading import load_scene, load_scene_text
+    from .scenes import SCALING_PREFIX, scaling_scene_text
 
     if ref.startswith(SCALING_PREFIX):
         count = int(ref[len(SCALING_PREFIX):])
@@ -39,9 +39,9 @@ def load(ref: str) -> Any:
 def step(engine: str, ref: str, max_ticks: int | None, block: int, metrics: list[str]) -> dict[str, Any]:
     """Time the scene's ticks (at most `max_ticks`) in `engine`; report ms per tick and the quality
     measures."""
-    from rustycs_cli.bench import peers, quality
-    from rustycs_cli.bench.spec import describe
-    from rustycs_cli.build import build_world
+    from ..build import build_world
+    from . import peers, quality
+    from .spec import describe
 
     scene = load(ref).scene
     ticks = scene.world.ticks if max_ticks is None else min(max_ticks, scene.world.ticks)
@@ -51,7 +51,7 @@ def step(engine: str, ref: str, max_ticks: int | None, block: int, metrics: list
     start = np.column_stack([world.positions, world.angles])
     perf = time.perf_counter
     if engine == "rustycs":
-        from rustycs_cli.simulation import warm_up
+        from ..simulation import warm_up
 
         warm_up()  # compiling or loading the kernels is not stepping
         build_s = perf() - began
@@ -90,7 +90,7 @@ def record(ref: str, max_ticks: int | None) -> dict[str, Any]:
     import tempfile
     from pathlib import Path
 
-    from rustycs_cli.simulation import run_scene, warm_up
+    from ..simulation import run_scene, warm_up
 
     loaded = load(ref)
     ticks = loaded.scene.world.ticks if max_ticks is None else min(max_ticks, loaded.scene.world.ticks)
@@ -119,7 +119,7 @@ def first_step() -> dict[str, float]:
     import rustycs  # noqa: F401
 
     t1 = time.perf_counter()
-    from rustycs_cli.simulation import warm_up
+    from ..simulation import warm_up
 
     warm_up()
     return dict(import_s=t1 - t0, first_step_s=time.perf_counter() - t1)

@@ -45,12 +45,12 @@ def command(
 
     Example: rustycs bench --scenes S2 S4 --peers --reps 3 --no-scaling
     """
-    from rustycs_cli.bench import peers as peer_engines
-    from rustycs_cli.bench.report import print_report
-    from rustycs_cli.bench.scenes import default_scene_dir, find_scenes, parse_ids
-    from rustycs_cli.bench.suite import Plan, failures, run
-    from rustycs_cli.errors import UserError
-    from rustycs_cli.summary import to_json, write_text_atomic
+    from ..bench import peers as peer_engines
+    from ..bench.report import print_report
+    from ..bench.scenes import default_scene_dir, find_scenes, parse_ids
+    from ..bench.suite import Plan, failures, run
+    from ..errors import UserError
+    from ..summary import to_json, write_text_atomic
 
     found = find_scenes(scene_dir or default_scene_dir(), parse_ids([*scenes, *(ids or [])]))
     if peers and (absent := peer_engines.missing()):

@@ -32,8 +32,8 @@ def command(
 
     Example: rustycs compare outputs/new.h5 outputs/reference.h5 --atol 1e-9
     """
-    from rustycs_cli.compare import NotComparable, compare_trajectories, print_comparison
-    from rustycs_cli.summary import to_json
+    from ..compare import NotComparable, compare_trajectories, print_comparison
+    from ..summary import to_json
 
     try:
         comparison = compare_trajectories(a, b, atol=atol, rtol=rtol)

@@ -17,8 +17,8 @@ def command(
 
     Example: rustycs info outputs/material-bounce.h5 --json
     """
-    from rustycs_cli.summary import summary_table, to_json
-    from rustycs_cli.trajectory import describe
+    from ..summary import summary_table, to_json
+    from ..trajectory import describe
 
     details = describe(run)
     if json:

@@ -20,7 +20,7 @@ def command(
 
     Example: rustycs plot outputs/sweep/*.h5 -o sweep.png
     """
-    from rustycs_cli.render.plot import plot_runs
+    from ..render.plot import plot_runs
 
     count = plot_runs(runs, out, title)
     typer.echo(f"wrote {out}: {count} run{'s' * (count > 1)}")

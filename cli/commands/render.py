@@ -46,8 +46,8 @@ def command(
 
     Example: rustycs render outputs/material-bounce.h5 -o bounce.gif --every 2 --velocities
     """
-    from rustycs_cli.render.pictures import RenderRequest, render
-    from rustycs_cli.render.raster import Overlays
+    from ..render.pictures import RenderRequest, render
+    from ..render.raster import Overlays
 
     result = render(
         RenderRequest(

@@ -7,7 +7,8 @@ import time
 from pathlib import Path
 
 import typer
-from rustycs_cli.errors import UserError
+
+from ..errors import UserError
 
 NAME = "run"
 
@@ -33,8 +34,8 @@ def command(
 
     Example: rustycs run scenes/material_bounce.yaml --ticks 1200 -s world.precision=20 --out bounce.h5
     """
-    from rustycs_cli.simulation import load_source, run_scene
-    from rustycs_cli.summary import summary_table, to_json
+    from ..simulation import load_source, run_scene
+    from ..summary import summary_table, to_json
 
     started = time.perf_counter()
     try:

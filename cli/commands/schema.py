@@ -20,9 +20,9 @@ def command(
     """
     import json
 
-    from rustycs_cli.errors import UserError
-    from rustycs_cli.scene import Scene
-    from rustycs_cli.summary import write_text_atomic
+    from ..errors import UserError
+    from ..scene import Scene
+    from ..summary import write_text_atomic
 
     schema = {"$schema": "https://json-schema.org/draft/2020-12/schema", **Scene.model_json_schema()}
     text = json.dumps(schema, indent=2) + "\n"

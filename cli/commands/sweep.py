@@ -5,7 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import typer
-from rustycs_cli.errors import UserError
+
+from ..errors import UserError
 
 NAME = "sweep"
 
@@ -61,10 +62,10 @@ def command(
     Example: rustycs sweep scenes/material_bounce.yaml -p world.precision=5,10,20
     -p 'forces.gravity.acceleration=[0,-9.81],[0,-1.62]' --ticks 600
     """
-    from rustycs_cli.summary import to_json
-    from rustycs_cli.sweep import default_workers, plan_sweep, run_sweep
-    from rustycs_cli.sweep_report import print_sweep_table, report_problems, variant_progress
-    from rustycs_cli.sweep_values import parse_swept_keys
+    from ..summary import to_json
+    from ..sweep import default_workers, plan_sweep, run_sweep
+    from ..sweep_report import print_sweep_table, report_problems, variant_progress
+    from ..sweep_values import parse_swept_keys
 
     if local not in ("threads", "processes"):
         raise UserError(f"--local: expected 'threads' or 'processes', got {local!r}")

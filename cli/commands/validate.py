@@ -19,7 +19,7 @@ def command(
 
     Example: rustycs validate scenes/pile.yaml -s generators.circles.count=80
     """
-    from rustycs_cli.loading import load_scene
+    from ..loading import load_scene
 
     loaded = load_scene(scene, overrides, seed)
     world = loaded.scene.world

@@ -6,8 +6,9 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-from rustycs_cli.errors import UserError
-from rustycs_cli.render.colors import RGB, material_color
+
+from ..errors import UserError
+from .colors import RGB, material_color
 
 if TYPE_CHECKING:
     import h5py

@@ -7,7 +7,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-from rustycs_cli.render.bodies import BODIES
+
+from .bodies import BODIES
 
 if TYPE_CHECKING:
     import h5py

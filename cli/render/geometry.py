@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import numpy as np
-from rustycs_cli.render.bodies import RunInfo
+
+from .bodies import RunInfo
 
 
 def rotate(local: np.ndarray, angle: np.ndarray) -> np.ndarray:

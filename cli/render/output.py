@@ -8,7 +8,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from rustycs_cli.errors import UserError
+from ..errors import UserError
 
 
 def check_suffix(out: Path, formats: tuple[str, ...], kind: str) -> str:

@@ -9,11 +9,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from rustycs_cli.errors import UserError
-from rustycs_cli.render.bodies import RunInfo, load_run
-from rustycs_cli.render.output import atomic_output, check_suffix
-from rustycs_cli.render.raster import Overlays
-from rustycs_cli.render.view import View, fit_box, make_view, parse_box, parse_size
+from ..errors import UserError
+from .bodies import RunInfo, load_run
+from .output import atomic_output, check_suffix
+from .raster import Overlays
+from .view import View, fit_box, make_view, parse_box, parse_size
 
 if TYPE_CHECKING:
     import h5py
@@ -49,7 +49,7 @@ class RenderResult:
 
 def render(request: RenderRequest) -> RenderResult:
     """Write the picture, animation or player `request.out` asks for."""
-    from rustycs_cli.trajectory import open_trajectory
+    from ..trajectory import open_trajectory
 
     suffix = check_suffix(request.out, FORMATS, "output")
     if request.tick is not None and suffix in (".gif", ".mp4"):
@@ -78,7 +78,7 @@ def render(request: RenderRequest) -> RenderResult:
             _write_png(file, run, index, view, request)
             return RenderResult(request.out, 1, 1, view, notes)
         if suffix == ".html":
-            from rustycs_cli.render.player import write_player
+            from .player import write_player
 
             start = 0 if request.tick is None else run.frame_of_tick(request.tick)
             with atomic_output(request.out) as temporary:
@@ -91,8 +91,8 @@ def render(request: RenderRequest) -> RenderResult:
 
 
 def _write_png(file: h5py.File, run: RunInfo, index: int, view: View, request: RenderRequest) -> None:
-    from rustycs_cli.render.frames import read_frame
-    from rustycs_cli.render.raster import draw_frame
+    from .frames import read_frame
+    from .raster import draw_frame
 
     image = draw_frame(run, read_frame(file, index, _with_contacts(run, request)), view, request.overlays)
     with atomic_output(request.out) as temporary:
@@ -113,7 +113,7 @@ def _animation_every(run: RunInfo, request: RenderRequest, view: View, suffix: s
         every = max(1, round(1.0 / (request.fps * interval))) if interval > 0 else 1
     if suffix != ".gif":
         return every, []
-    from rustycs_cli.render.animate import gif_max_frames
+    from .animate import gif_max_frames
 
     limit = gif_max_frames(view.width, view.height)
     if math.ceil(run.frame_count / every) <= limit:
@@ -131,7 +131,7 @@ def _animation_every(run: RunInfo, request: RenderRequest, view: View, suffix: s
 def _write_animation(
     file: h5py.File, run: RunInfo, frames: range, view: View, request: RenderRequest, suffix: str
 ) -> int:
-    from rustycs_cli.render.animate import write_gif, write_mp4
+    from .animate import write_gif, write_mp4
 
     images = _images(file, run, frames, view, request)
     with atomic_output(request.out) as temporary:
@@ -146,8 +146,9 @@ def _images(
     """The frames drawn one by one (read in blocks), with a progress bar on a terminal."""
     from rich.console import Console
     from rich.progress import Progress
-    from rustycs_cli.render.frames import iter_frames
-    from rustycs_cli.render.raster import draw_frame
+
+    from .frames import iter_frames
+    from .raster import draw_frame
 
     console = Console(stderr=True)
     with Progress(console=console, transient=True, disable=not sys.stderr.isatty()) as progress:

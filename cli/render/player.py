@@ -16,11 +16,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
-from rustycs_cli.render.bodies import RunInfo
-from rustycs_cli.render.colors import hex_color
-from rustycs_cli.render.frames import iter_blocks
-from rustycs_cli.render.raster import VELOCITY_SECONDS, Overlays
-from rustycs_cli.render.view import Box
+
+from .bodies import RunInfo
+from .colors import hex_color
+from .frames import iter_blocks
+from .raster import VELOCITY_SECONDS, Overlays
+from .view import Box
 
 if TYPE_CHECKING:
     import h5py

@@ -6,8 +6,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from rustycs_cli.errors import UserError
-from rustycs_cli.render.output import atomic_output, check_suffix
+
+from ..errors import UserError
+from .output import atomic_output, check_suffix
 
 OBSERVABLES = (
     "kinetic_energy",
@@ -31,7 +32,7 @@ class Series:
 
 def read_series(path: Path, label: str) -> Series:
     """Read the observables of a trajectory; UserError when the file is not one or lacks them."""
-    from rustycs_cli.trajectory import open_trajectory
+    from ..trajectory import open_trajectory
 
     with open_trajectory(path) as file:
         time, value = {}, {}

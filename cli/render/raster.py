@@ -12,10 +12,11 @@ from functools import cache
 
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
-from rustycs_cli.render import colors, geometry
-from rustycs_cli.render.bodies import RunInfo
-from rustycs_cli.render.frames import Frame
-from rustycs_cli.render.view import View, grid_spacing
+
+from . import colors, geometry
+from .bodies import RunInfo
+from .frames import Frame
+from .view import View, grid_spacing
 
 SUPERSAMPLE = 2
 VELOCITY_SECONDS = 0.1  # a velocity arrow shows where the body would be this much later

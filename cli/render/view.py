@@ -7,9 +7,10 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
-from rustycs_cli.errors import UserError
-from rustycs_cli.render.bodies import BODIES, RunInfo
-from rustycs_cli.render.geometry import hitboxes
+
+from ..errors import UserError
+from .bodies import BODIES, RunInfo
+from .geometry import hitboxes
 
 if TYPE_CHECKING:
     import h5py

@@ -23,7 +23,7 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-from rustycs_cli.scene import polygon_problem
+from rustycs.polygon import polygon_problem
 from rustycs_cli.yaml_source import dump_scene_yaml
 
 HERE = Path(__file__).resolve().parent
@@ -71,7 +71,7 @@ def convex_hull(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
     hull = [p for p in points if p in corners]
     problem = polygon_problem(hull)
     if problem is not None:
-        raise SystemExit(f"hull of {points}: {problem[0]}")
+        raise SystemExit(f"hull of {points}: {problem.message}")
     return hull
 
 
