@@ -84,9 +84,10 @@ def fatten(bodies, shapes, geometry, pairs):
 
 
 @njit(cache=True, inline="always")
-def may_collide(shapes, bodies, i, j):
-    """Whether shapes i and j may touch: of two bodies, at least one movable, neither a sensor, and
-    the filters agree (no shared non-zero group; each one's category in the other's mask)."""
+def may_collide(shapes, bodies, joints, joint_filter, i, j):
+    """Whether shapes i and j may touch: of two bodies, at least one movable, not held apart by an
+    active joint, neither a sensor, and the filters agree (no shared non-zero group; each one's category
+    in the other's mask)."""
     a = shapes.body[i]
     b = shapes.body[j]
     if a == b or (bodies.inv_mass[a] == 0.0 and bodies.inv_mass[b] == 0.0):
@@ -96,7 +97,12 @@ def may_collide(shapes, bodies, i, j):
     group = shapes.group
     if group[i] != 0 and group[i] == group[j]:
         return False
-    return (shapes.category[i] & shapes.mask[j]) != 0 and (shapes.category[j] & shapes.mask[i]) != 0
+    if (shapes.category[i] & shapes.mask[j]) == 0 or (shapes.category[j] & shapes.mask[i]) == 0:
+        return False
+    for k in range(joint_filter.first[a], joint_filter.first[a + 1]):
+        if joint_filter.partner[k] == b and joints.active[joint_filter.joint[k]]:
+            return False
+    return True
 
 
 SHAPE_BITS = 27  # a pair's key: (a << SHAPE_BITS) | b, so that keys sort by (a, b)
@@ -137,7 +143,7 @@ def _select(values, k):
 
 
 @tick_kernel
-def find_pairs(bodies, shapes, pairs):
+def find_pairs(bodies, shapes, joints, joint_filter, pairs):
     """Candidate pairs as sorted keys (a << SHAPE_BITS) | b in pairs.keys, a < b, that `may_collide`,
     for the fat hitboxes.
 
@@ -239,7 +245,8 @@ def find_pairs(bodies, shapes, pairs):
                     if (max(ranges[4 * i], ranges[4 * j]) != cx
                             or max(ranges[4 * i + 1], ranges[4 * j + 1]) != cy):
                         continue
-                    if not hitboxes_overlap(hitbox, i, j) or not may_collide(shapes, bodies, i, j):
+                    if not hitboxes_overlap(hitbox, i, j) or not may_collide(shapes, bodies, joints,
+                                                                             joint_filter, i, j):
                         continue
                     if count < keys.shape[0]:
                         key = (i << SHAPE_BITS) | j

@@ -96,7 +96,8 @@ def collide(a: tuple[Shape, tuple[float, float], float], b: tuple[Shape, tuple[f
     for shape, origin, angle in (a, b):  # lines on static bodies: the narrow phase does not mind
         kind = "dynamic" if shape.has_area else "static"
         world.add_body(shape, position=origin, angle=angle, body_type=kind)
-    bodies, shapes, _ = world._kernel_inputs()
+    inputs = world._kernel_inputs()
+    bodies, shapes = inputs.bodies, inputs.shapes
     geometry = new_geometry(world.body_count, len(shapes.body), MAX_VERTICES)
     update_geometry(bodies, shapes, SPECULATIVE_DISTANCE, world.dt, True, geometry)
     geometry.hitbox[:] = (-np.inf, -np.inf, np.inf, np.inf)  # every pair is tested

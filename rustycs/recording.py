@@ -2,8 +2,9 @@
 buffers the caller owns (so that recording every tick costs no Python per tick).
 
 A frame buffer is a dict of arrays with one row per frame: the tick, each body's origin, velocity,
-angle, angular velocity and active flag, and the observables of the dynamic bodies (energies,
-momenta, fastest speed) and of the last tick's contacts (count, deepest overlap).
+angle, angular velocity and active flag, the observables of the dynamic bodies (energies, momenta,
+fastest speed) and of the last tick's contacts (count, deepest overlap), and each joint's reaction
+(force on its second body, torque) and active flag.
 """
 
 from __future__ import annotations
@@ -13,11 +14,12 @@ import math
 import numpy as np
 
 from rustycs.body_types import DYNAMIC
+from rustycs.joints import FORCE_X, FORCE_Y, TORQUE
 from rustycs.observables import body_origin, contact_statistics, energies_and_momenta
 from rustycs.tick_kernel import tick_kernel
 
 # the buffer's arrays, in the order the compiled code takes them: name -> (per-frame shape, dtype),
-# where "n" stands for the body count
+# where "n" stands for the body count and "j" for the joint count
 FRAME_FIELDS = {
     "tick": ((), np.int64),
     "position": (("n", 2), np.float64),
@@ -32,24 +34,33 @@ FRAME_FIELDS = {
     "contact_count": ((), np.int64),
     "max_penetration": ((), np.float64),
     "max_speed": ((), np.float64),
+    "joint_force": (("j", 2), np.float64),
+    "joint_torque": (("j",), np.float64),
+    "joint_active": (("j",), np.bool_),
 }
 
 OBSERVABLE_FIELDS = ("kinetic_energy", "potential_energy", "linear_momentum", "angular_momentum",
                      "contact_count", "max_penetration", "max_speed")
 
 
-def frame_buffer(capacity: int, bodies: int) -> dict[str, np.ndarray]:
-    """An empty buffer for `capacity` frames of `bodies` bodies."""
-    return {name: np.zeros((capacity, *(bodies if d == "n" else d for d in shape)), dtype)
+def frame_buffer(capacity: int, bodies: int, joints: int) -> dict[str, np.ndarray]:
+    """An empty buffer for `capacity` frames of `bodies` bodies and `joints` joints."""
+    sizes = {"n": bodies, "j": joints}
+    return {name: np.zeros((capacity, *(sizes.get(d, d) for d in shape)), dtype)
             for name, (shape, dtype) in FRAME_FIELDS.items()}
 
 
 @tick_kernel
-def record_frame(frames, k, tick, bodies, forces, points, n_points):
+def record_frame(frames, k, tick, bodies, joints, forces, points, n_points):
     """Write the current state into row k of `frames` (the buffer's arrays as a tuple, in FRAME_FIELDS
     order); `points` are the last tick's contact points."""
     (ticks, position, velocity, angles, angular_velocity, is_active, kinetic, potential, momentum, angular,
-     contact_count, max_penetration, max_speed) = frames
+     contact_count, max_penetration, max_speed, joint_force, joint_torque, joint_active) = frames
+    for j in range(joints.kind.shape[0]):
+        joint_force[k, j, 0] = joints.reaction[j, FORCE_X]
+        joint_force[k, j, 1] = joints.reaction[j, FORCE_Y]
+        joint_torque[k, j] = joints.reaction[j, TORQUE]
+        joint_active[k, j] = joints.active[j]
     x, angle, v, w, active, body_type, origin = (bodies.x, bodies.angle, bodies.v, bodies.w, bodies.active,
                                                  bodies.body_type, bodies.origin)
     ticks[k] = tick

@@ -57,31 +57,29 @@ class Shapes(NamedTuple):
     mask: np.ndarray  # (S,) int64 bits: the categories it collides with
 
 
-_COLUMNS = {  # trailing shape and dtype of every column
-    Bodies: {"x": ((2,), np.float64), "angle": ((), np.float64), "v": ((2,), np.float64),
+# trailing shape and dtype of every column
+BODY_COLUMNS = {"x": ((2,), np.float64), "angle": ((), np.float64), "v": ((2,), np.float64),
              "w": ((), np.float64), "mass": ((), np.float64), "inertia": ((), np.float64),
              "inv_mass": ((), np.float64), "inv_inertia": ((), np.float64), "body_type": ((), np.int64),
              "active": ((), np.bool_), "origin": ((2,), np.float64), "linear_damping": ((), np.float64),
              "angular_damping": ((), np.float64), "gravity_scale": ((), np.float64),
              "fixed_rotation": ((), np.bool_), "bullet": ((), np.bool_), "first_shape": ((), np.int64),
-             "shape_count": ((), np.int64)},
-    Shapes: {"body": ((), np.int64), "kind": ((), np.int64), "radius": ((), np.float64),
+             "shape_count": ((), np.int64)}
+SHAPE_COLUMNS = {"body": ((), np.int64), "kind": ((), np.int64), "radius": ((), np.float64),
              "count": ((), np.int64), "vertices": ((MAX_VERTICES, 2), np.float64),
              "normals": ((MAX_VERTICES, 2), np.float64), "centroid": ((2,), np.float64),
              "ghosts": ((2, 2), np.float64), "open_ends": ((), np.int64), "friction": ((), np.float64),
              "restitution": ((), np.float64), "sensor": ((), np.bool_), "group": ((), np.int64),
-             "category": ((), np.int64), "mask": ((), np.int64)},
-}
+             "category": ((), np.int64), "mask": ((), np.int64)}
 
 
 class Table:
     """Rows of a record type, appended one by one, stored in arrays that double when full."""
 
-    def __init__(self, record: type[Bodies] | type[Shapes]):
+    def __init__(self, record: type, columns: dict[str, tuple[tuple[int, ...], type]]):
         self.record = record
         self.rows = 0
-        self.columns = {name: np.zeros((0, *shape), dtype)
-                        for name, (shape, dtype) in _COLUMNS[record].items()}
+        self.columns = {name: np.zeros((0, *shape), dtype) for name, (shape, dtype) in columns.items()}
 
     def append(self, **values) -> int:
         """Add a row (columns left out are zero) and return its index."""
@@ -97,6 +95,6 @@ class Table:
         self.rows += 1
         return row
 
-    def view(self) -> Bodies | Shapes:
+    def view(self):
         """The record of the rows in use (views: the kernels write the world's own arrays)."""
         return self.record(**{name: array[: self.rows] for name, array in self.columns.items()})

@@ -1,5 +1,5 @@
-"""The tick: geometry, broad phase, narrow phase, warm start, soft contact solver with substeps,
-integration, bounds.
+"""The tick: geometry, broad phase, narrow phase, warm start, soft joint and contact solver with
+substeps, integration, broken joints, bounds.
 
 One compiled function runs a block of ticks so that Python costs once per block. Its buffers (the
 workspace) belong to the world and live from block to block, growing when a tick needs more: a tick
@@ -16,7 +16,13 @@ import numpy as np
 from numba import njit
 
 from rustycs.broad_phase import Pairs, fatten, find_pairs, grid_scratch_size, pairs_hold
-from rustycs.constants import CONTACT_DAMPING_RATIO, CONTACT_HERTZ, SPECULATIVE_DISTANCE
+from rustycs.constants import (
+    CONTACT_DAMPING_RATIO,
+    CONTACT_HERTZ,
+    JOINT_DAMPING_RATIO,
+    JOINT_HERTZ,
+    SPECULATIVE_DISTANCE,
+)
 from rustycs.contact_batches import Batches, new_batches, schedule
 from rustycs.contact_cache import ContactCache, new_cache, remember, warm_start_points
 from rustycs.contact_solver import (
@@ -32,7 +38,9 @@ from rustycs.contact_solver import (
     store_impulses,
     warm_start,
 )
+from rustycs.events import JOINT_BREAK, Events, new_events, record_event
 from rustycs.geometry import Geometry, new_geometry, update_geometry
+from rustycs.joint_solver import FRAME_COLUMNS, RELAX, SOLVE, WARM, break_joints, joints_pass, prepare_joints
 from rustycs.motion import (
     apply_bounds,
     damp,
@@ -68,11 +76,14 @@ class Workspace(NamedTuple):
     lanes: np.ndarray  # the solver's lanes of the scheduled contacts
     gravity: np.ndarray  # (N, 2) per body the world force times its gravity scale
     decay: np.ndarray  # (N, 2) per body the damping factors of a tick, linear and angular
+    joint_frames: np.ndarray  # (J, FRAME_COLUMNS) the joints' anchors and springs of the tick
+    broken: np.ndarray  # (J,) int64 scratch: the joints that broke in a tick
+    events: Events
     statics_placed: np.ndarray  # bool (1,): the static bodies' geometry is up to date
 
 
 @njit(cache=True)
-def new_workspace(n_bodies, n_shapes, max_vertices, c_key, c_jn, c_jt):
+def new_workspace(n_bodies, n_shapes, n_joints, max_vertices, c_key, c_jn, c_jt):
     """Buffers for stepping, with a warm-start cache (keys and impulses) carried over."""
     capacity = max(4 * n_shapes + 16, c_key.shape[0])
     pairs = Pairs(np.empty(capacity, np.int64), np.full(1, -1, np.int64), np.full((n_shapes, 4), np.nan),
@@ -81,7 +92,9 @@ def new_workspace(n_bodies, n_shapes, max_vertices, c_key, c_jn, c_jt):
     return Workspace(new_geometry(n_bodies, n_shapes, max_vertices), pairs, new_contacts(capacity),
                      new_cache(2 * capacity, c_key, c_jn, c_jt), np.empty((n_bodies, BODY_COLUMNS)),
                      new_batches(n_bodies, capacity), np.empty(capacity * LANE_FIELDS),
-                     np.zeros((n_bodies, 2)), np.ones((n_bodies, 2)), np.zeros(1, np.bool_))
+                     np.zeros((n_bodies, 2)), np.ones((n_bodies, 2)), np.zeros((n_joints, FRAME_COLUMNS)),
+                     np.zeros(n_joints, np.int64), new_events(n_joints + n_bodies + 16), np.zeros(1,
+                                                                                                  np.bool_))
 
 
 @njit(cache=True)
@@ -104,20 +117,24 @@ def grown(ws, n_bodies, cells, pairs, points, chunks):
     if chunks * LANES * LANE_FIELDS > lanes.shape[0]:
         lanes = np.empty(2 * chunks * LANES * LANE_FIELDS)
     return Workspace(ws.geometry, p, contacts, cache, ws.body, batches, lanes, ws.gravity, ws.decay,
-                     ws.statics_placed)
+                     ws.joint_frames, ws.broken, ws.events, ws.statics_placed)
 
 
 @tick_kernel
-def substeps_and_restitution(batches, n_chunks, lanes, body, bodies, forces, gravity, h, substeps, threshold,
-                             bouncy):
+def substeps_and_restitution(batches, n_chunks, lanes, body, bodies, joints, joint_frames, joint_soft, forces,
+                             gravity, h, substeps, threshold, bouncy):
     """The solver's substeps: integrate velocities, warm start, solve with the soft bias, integrate
-    positions, relax; then restitution, when `bouncy` contacts have any. One compiled call with every
-    pass inlined: a call per pass cost a quarter of the tick of a five-body scene."""
+    positions, relax (the joints before the contacts in each pass); then restitution, when `bouncy`
+    contacts have any. One compiled call with every pass inlined: a call per pass cost a quarter of the
+    tick of a five-body scene."""
     for _ in range(substeps):
         integrate_velocities(body, bodies, forces, gravity, h)
+        joints_pass(WARM, bodies, body, joints, joint_frames, joint_soft, h)
         warm_start(batches, n_chunks, lanes, body)
+        joints_pass(SOLVE, bodies, body, joints, joint_frames, joint_soft, h)
         solve(batches, n_chunks, lanes, body, 1.0 / h, True)
         integrate_positions(body, bodies, h)
+        joints_pass(RELAX, bodies, body, joints, joint_frames, joint_soft, h)
         solve(batches, n_chunks, lanes, body, 1.0 / h, False)
     # a single pass would favour the first point of a two-point manifold (a flat box would bounce
     # unevenly and spin); repeated passes converge to -e times the approach speed at both
@@ -132,7 +149,8 @@ STATUS_FIELDS = 7
 
 
 @tick_kernel
-def run_ticks(n_ticks, bodies, shapes, forces, settings, ws, first_tick, every, frames, status):
+def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, first_tick, every, frames,
+              status):
     """Step until `n_ticks` ticks are done (counted in `status`), a state becomes non-finite, or a
     buffer is too small: then the tick stops before it changed any state, with the sizes it needs in
     `status`, to be grown and run again. Compiled without reference counting, like every stage it
@@ -144,7 +162,9 @@ def run_ticks(n_ticks, bodies, shapes, forces, settings, ws, first_tick, every, 
     soft = softness(contact_hertz, CONTACT_DAMPING_RATIO, h)
     # contacts against an immovable body are stiffer: only one side gives way
     stiff = softness(2.0 * contact_hertz, CONTACT_DAMPING_RATIO, h)
-    geometry, pairs, contacts, cache, body, batches, lanes, gravity, decay, statics_placed = ws
+    joint_soft = softness(min(JOINT_HERTZ, 0.25 / h), JOINT_DAMPING_RATIO, h)
+    (geometry, pairs, contacts, cache, body, batches, lanes, gravity, decay, joint_frames, broken, events,
+     statics_placed) = ws
     per_body_forces(bodies, forces, dt, gravity, decay)
     while status[TICKS_DONE] < n_ticks:
         bad = first_non_finite(bodies)
@@ -155,7 +175,7 @@ def run_ticks(n_ticks, bodies, shapes, forces, settings, ws, first_tick, every, 
         statics_placed[0] = True
         if not pairs_hold(bodies, shapes, geometry, pairs):
             fatten(bodies, shapes, geometry, pairs)
-            n_pairs, n_entries = find_pairs(bodies, shapes, pairs)
+            n_pairs, n_entries = find_pairs(bodies, shapes, joints, joint_filter, pairs)
             if n_entries > pairs.cells.shape[0] or n_pairs > pairs.keys.shape[0]:
                 pairs.count[0] = -1  # find them again
                 status[NEED_CELLS] = n_entries
@@ -171,16 +191,22 @@ def run_ticks(n_ticks, bodies, shapes, forces, settings, ws, first_tick, every, 
         warm_start_points(contacts.points, n_pts, cache)
         load_bodies(bodies, body)
         damp(body, bodies, decay)
+        prepare_joints(bodies, joints, h, joint_frames)
         n_chunks = schedule(contacts.manifolds, n_man, body, batches)
         if n_chunks * LANES * LANE_FIELDS > lanes.shape[0]:
             status[NEED_CHUNKS] = n_chunks
             return
         bouncy = prepare(batches, n_chunks, contacts.manifolds, contacts.points, body, soft, stiff, lanes)
-        substeps_and_restitution(batches, n_chunks, lanes, body, bodies, forces, gravity, h,
-                                 settings.substeps, settings.restitution_threshold, bouncy)
+        substeps_and_restitution(batches, n_chunks, lanes, body, bodies, joints, joint_frames, joint_soft,
+                                 forces, gravity, h, settings.substeps, settings.restitution_threshold,
+                                 bouncy)
         store_impulses(batches, n_chunks, contacts.manifolds, lanes, contacts.points)
         store_bodies(body, bodies)
         remember(contacts.points, n_pts, cache)
+        tick = first_tick + status[TICKS_DONE] + 1
+        for k in range(break_joints(bodies, body, joints, joint_frames, h, broken)):
+            record_event(events, tick, JOINT_BREAK, broken[k], -1, 0.0, 0.0, 0.0)
+            pairs.count[0] = -1  # the joint no longer keeps its bodies apart
         bad = first_non_finite(bodies)
         if bad >= 0:
             status[BAD_BODY] = bad
@@ -190,12 +216,14 @@ def run_ticks(n_ticks, bodies, shapes, forces, settings, ws, first_tick, every, 
         status[TICKS_DONE] += 1
         done = status[TICKS_DONE]
         if every > 0 and (done % every == 0 or done == n_ticks):
-            record_frame(frames, status[FRAMES], first_tick + done, bodies, forces, contacts.points, n_pts)
+            record_frame(frames, status[FRAMES], first_tick + done, bodies, joints, forces, contacts.points,
+                         n_pts)
             status[FRAMES] += 1
 
 
 @njit(cache=True, nogil=True)
-def step_world(n_ticks, bodies, shapes, forces, settings, ws, first_tick, every, frames):
+def step_world(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, first_tick, every,
+               frames):
     """Advance `n_ticks` ticks in place. Releases the GIL, so independent worlds step in parallel
     threads.
 
@@ -207,11 +235,13 @@ def step_world(n_ticks, bodies, shapes, forces, settings, ws, first_tick, every,
     """
     status = np.zeros(STATUS_FIELDS, np.int64)
     status[BAD_BODY] = -1
+    ws.events.count[0] = 0  # the caller took the last call's events
     while True:
         status[NEED_CELLS] = 0
         status[NEED_PAIRS] = 0
         status[NEED_CHUNKS] = 0
-        run_ticks(n_ticks, bodies, shapes, forces, settings, ws, first_tick, every, frames, status)
+        run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, first_tick, every,
+                  frames, status)
         if status[BAD_BODY] >= 0 or status[TICKS_DONE] == n_ticks:
             return status, ws
         ws = grown(ws, bodies.x.shape[0], status[NEED_CELLS], status[NEED_PAIRS], 2 * status[NEED_PAIRS],

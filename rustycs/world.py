@@ -4,16 +4,21 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import NamedTuple
 
 import numpy as np
 
 from rustycs import defaults
+from rustycs import joints as J
 from rustycs.body_types import BODY_TYPE_NAMES, DYNAMIC
+from rustycs.events import EVENT_KIND_NAMES
+from rustycs.forces import Forces
+from rustycs.joints import JOINT_COLUMNS, JOINT_TYPE_NAMES, Joints, joint_filter
 from rustycs.kernel_cache import ensure_fresh
 from rustycs.materials import MATERIALS, Material
 from rustycs.pieces import MAX_VERTICES, body_mass, edge_normals, shape_pieces
 from rustycs.shapes import Box, Capsule, Chain, Circle, Polygon, Segment, Shape, type_name
-from rustycs.state import Bodies, Shapes, Table
+from rustycs.state import BODY_COLUMNS, SHAPE_COLUMNS, Bodies, Shapes, Table
 
 _BODY_TYPES = {name: code for code, name in enumerate(BODY_TYPE_NAMES)}
 
@@ -36,8 +41,25 @@ def _material(material: Material | str) -> Material:
     return MATERIALS[material]
 
 
+class KernelInputs(NamedTuple):
+    """What the kernels read of a world: its records (bodies, shapes, joints and their filter, forces)."""
+
+    bodies: Bodies
+    shapes: Shapes
+    joints: Joints
+    joint_filter: J.JointFilter
+    forces: Forces
+
+
+def _point(value) -> np.ndarray:
+    point = np.asarray(value, dtype=np.float64).reshape(2)
+    if not np.all(np.isfinite(point)):
+        raise ValueError("joint points and axes must be finite")
+    return point
+
+
 class World:
-    """A 2D world of rigid bodies made of shapes.
+    """A 2D world of rigid bodies made of shapes, and joints between them.
 
     Each tick is dt = 1/tick_rate long and runs `precision` solver substeps. Attractors pull with
     the acceleration G*M/max(d, min_distance)^2; forces are constant accelerations.
@@ -60,8 +82,9 @@ class World:
         self.escaped_count = 0
         self._gravity = np.zeros(2)
         self._attractors: list[dict] = []
-        self._bodies = Table(Bodies)
-        self._shapes = Table(Shapes)  # convex pieces, as the kernels collide them
+        self._bodies = Table(Bodies, BODY_COLUMNS)
+        self._shapes = Table(Shapes, SHAPE_COLUMNS)  # convex pieces, as the kernels collide them
+        self._joints = Table(Joints, JOINT_COLUMNS)
         self._shape_list: list[tuple[int, Shape]] = []  # (body, shape) as given
         self._inputs: tuple | None = None  # the kernels' inputs, rebuilt when bodies or forces change
         # the step's buffers, kept from block to block (rebuilt when bodies are added)
@@ -160,19 +183,230 @@ class World:
             angular_damping=angular_damping, gravity_scale=gravity_scale, fixed_rotation=fixed_rotation,
             bullet=bullet, first_shape=first_shape, shape_count=self._shapes.rows - first_shape)
         self._shape_list += [(index, shape) for shape in shapes]
-        self._inputs = None
-        if self._workspace is not None:  # sized for the old bodies; its warm-start cache carries over
-            self._last_contacts()
-            self._workspace = None
+        self._changed()
         return index
 
-    # ------------------------------------------------------------------ stepping
-    def _kernel_inputs(self) -> tuple:
-        """The records the kernels take (bodies, shapes, forces), built once per change of the world's
-        make-up, so that stepping and recording tick by tick cost little Python."""
-        if self._inputs is None:
-            from rustycs.forces import Forces
+    # ------------------------------------------------------------------ joints
+    def _local(self, body: int, point: np.ndarray) -> np.ndarray:
+        """A world point in a body's frame about its centre of mass (a world point for the world, -1)."""
+        if body < 0:
+            return point
+        c, s = math.cos(self._bodies.columns["angle"][body]), math.sin(self._bodies.columns["angle"][body])
+        dx, dy = point - self._bodies.columns["x"][body]
+        return np.array([c * dx + s * dy, -s * dx + c * dy])
 
+    def _body_index(self, body: int | None) -> int:
+        if body is None:
+            return -1
+        if not 0 <= int(body) < self.body_count:
+            raise ValueError(f"no body {body}: the world has {self.body_count}")
+        return int(body)
+
+    def _add_joint(self, kind: int, body_a: int | None, body_b: int | None, anchor_a, anchor_b, *,
+                   axis=(1.0, 0.0), flags: int = 0, collide_connected: bool = False,
+                   break_force: float | None = None, break_torque: float | None = None, **values) -> int:
+        """Append a joint row: anchors are world points at the bodies' present poses; `values` fill
+        setting columns by name (the rest stay inf, unused)."""
+        a, b = self._body_index(body_a), self._body_index(body_b)
+        if kind != J.GEAR and a == b:
+            raise ValueError("a joint joins two different bodies")
+        for name, limit in (("break_force", break_force), ("break_torque", break_torque)):
+            if limit is not None and not limit > 0:
+                raise ValueError(f"{name} must be > 0")
+        settings = np.full(J.SETTING_COLUMNS, np.inf)
+        for name, value in values.items():
+            settings[getattr(J, name.upper())] = value
+        settings[J.BREAK_FORCE] = np.inf if break_force is None else break_force
+        settings[J.BREAK_TORQUE] = np.inf if break_torque is None else break_torque
+        axis = _point(axis)
+        if not np.hypot(*axis) > 0:
+            raise ValueError("a joint's axis must not be zero")
+        angle_a = self._bodies.columns["angle"][a] if a >= 0 else 0.0
+        c, s = math.cos(angle_a), math.sin(angle_a)
+        unit = axis / np.hypot(*axis)
+        angles = self._bodies.columns["angle"]
+        row = self._joints.append(
+            kind=kind, body_a=a, body_b=b, local_a=self._local(a, _point(anchor_a)),
+            local_b=self._local(b, _point(anchor_b)), axis=(c * unit[0] + s * unit[1],
+                                                            -s * unit[0] + c * unit[1]),
+            reference_angle=(angles[b] if b >= 0 else 0.0) - angle_a,
+            flags=flags | (J.COLLIDE_CONNECTED if collide_connected else 0), settings=settings, active=True)
+        self._changed()
+        return row
+
+    @staticmethod
+    def _motion_flags(limits, motor_speed, spring_hertz) -> int:
+        if limits is not None and not limits[0] <= limits[1]:
+            raise ValueError("limits must be [lower, upper] with lower <= upper")
+        if spring_hertz is not None and not spring_hertz >= 0:
+            raise ValueError("a spring's hertz must be >= 0")
+        return ((J.LIMIT if limits is not None else 0) | (J.MOTOR if motor_speed is not None else 0)
+                | (J.SPRING if spring_hertz else 0))
+
+    def add_revolute(self, body_a: int | None, body_b: int, anchor, *, limits=None, motor_speed=None,
+                     max_motor_torque: float = 0.0, spring_hertz=None, spring_damping_ratio: float = 0.0,
+                     **common) -> int:
+        """The bodies share the world point `anchor` and turn freely about it; `limits` bound the joint
+        angle (b's angle relative to a's, zero now), a motor drives it at `motor_speed` (rad/s) with at
+        most `max_motor_torque`, a spring pulls it back to zero. `body_a` None: the fixed world. Common
+        keywords of every joint: collide_connected, break_force, break_torque. Returns the joint index."""
+        flags = self._motion_flags(limits, motor_speed, spring_hertz)
+        lower, upper = limits if limits is not None else (np.inf, np.inf)
+        return self._add_joint(J.REVOLUTE, body_a, body_b, anchor, anchor, flags=flags, lower=lower,
+                               upper=upper, motor_speed=motor_speed or 0.0, max_motor=max_motor_torque,
+                               hertz=spring_hertz or 0.0, damping_ratio=spring_damping_ratio, **common)
+
+    def add_prismatic(self, body_a: int | None, body_b: int, anchor, axis, *, limits=None, motor_speed=None,
+                      max_motor_force: float = 0.0, spring_hertz=None, spring_damping_ratio: float = 0.0,
+                      **common) -> int:
+        """b slides along `axis` (a world direction now, turning with a) without turning relative to a;
+        limits, motor (m/s, at most `max_motor_force`) and spring act on the translation."""
+        flags = self._motion_flags(limits, motor_speed, spring_hertz)
+        lower, upper = limits if limits is not None else (np.inf, np.inf)
+        return self._add_joint(J.PRISMATIC, body_a, body_b, anchor, anchor, axis=axis, flags=flags,
+                               lower=lower, upper=upper, motor_speed=motor_speed or 0.0,
+                               max_motor=max_motor_force, hertz=spring_hertz or 0.0,
+                               damping_ratio=spring_damping_ratio, **common)
+
+    def add_wheel(self, body_a: int | None, body_b: int, anchor, axis, *, spring_hertz=None,
+                  spring_damping_ratio: float = 0.0, limits=None, motor_speed=None,
+                  max_motor_torque: float = 0.0, **common) -> int:
+        """A car's wheel: b slides along `axis` on a spring (the suspension; limits bound the translation)
+        and turns freely, driven by a motor at `motor_speed` (rad/s) with at most `max_motor_torque`."""
+        flags = self._motion_flags(limits, motor_speed, spring_hertz)
+        lower, upper = limits if limits is not None else (np.inf, np.inf)
+        return self._add_joint(J.WHEEL, body_a, body_b, anchor, anchor, axis=axis, flags=flags, lower=lower,
+                               upper=upper, motor_speed=motor_speed or 0.0, max_motor=max_motor_torque,
+                               hertz=spring_hertz or 0.0, damping_ratio=spring_damping_ratio, **common)
+
+    def add_distance(self, body_a: int | None, body_b: int, anchors, *, length=None, min_length=None,
+                     max_length=None, spring_hertz=None, spring_damping_ratio: float = 0.0, **common) -> int:
+        """The anchor points (world points now, one on each body) stay `length` apart (default: as now):
+        a rod, or with `spring_hertz` a spring, held between min_length and max_length."""
+        pa, pb = _point(anchors[0]), _point(anchors[1])
+        length = float(np.hypot(*(pb - pa))) if length is None else float(length)
+        low = 0.0 if min_length is None else float(min_length)
+        high = np.inf if max_length is None else float(max_length)
+        if not (length >= 0 and 0 <= low <= high):
+            raise ValueError("lengths must be >= 0 with min_length <= max_length")
+        flags = self._motion_flags(None, None, spring_hertz)
+        if flags & J.SPRING and (min_length is not None or max_length is not None):
+            flags |= J.LIMIT
+        return self._add_joint(J.DISTANCE, body_a, body_b, pa, pb, flags=flags, length=length, min_length=low,
+                               max_length=high, hertz=spring_hertz or 0.0, damping_ratio=spring_damping_ratio,
+                               **common)
+
+    def add_rope(self, body_a: int | None, body_b: int, anchors, *, length=None, **common) -> int:
+        """The anchor points are at most `length` apart (default: as now); slack is free."""
+        pa, pb = _point(anchors[0]), _point(anchors[1])
+        length = float(np.hypot(*(pb - pa))) if length is None else float(length)
+        if not length >= 0:
+            raise ValueError("a rope's length must be >= 0")
+        return self._add_joint(J.ROPE, body_a, body_b, pa, pb, flags=J.LIMIT, min_length=0.0,
+                               max_length=length, length=length, **common)
+
+    def add_weld(self, body_a: int | None, body_b: int, anchor, *, linear_hertz: float = 0.0,
+                 angular_hertz: float = 0.0, damping_ratio: float = 0.0, **common) -> int:
+        """The bodies move as one; with a linear or angular hertz, softly (a spring about the pose of now)."""
+        if not (linear_hertz >= 0 and angular_hertz >= 0 and damping_ratio >= 0):
+            raise ValueError("a weld's hertz and damping ratio must be >= 0")
+        return self._add_joint(J.WELD, body_a, body_b, anchor, anchor, hertz=linear_hertz,
+                               angular_hertz=angular_hertz, damping_ratio=damping_ratio, **common)
+
+    def add_pulley(self, body_a: int, body_b: int, anchors, ground_anchors, ratio: float = 1.0,
+                   **common) -> int:
+        """Two bodies hang from two fixed world points: length_a + ratio length_b stays as now (each length
+        from a ground anchor to its body's anchor)."""
+        pa, pb = _point(anchors[0]), _point(anchors[1])
+        ga, gb = _point(ground_anchors[0]), _point(ground_anchors[1])
+        if not ratio > 0:
+            raise ValueError("a pulley's ratio must be > 0")
+        constant = float(np.hypot(*(pa - ga)) + ratio * np.hypot(*(pb - gb)))
+        return self._add_joint(J.PULLEY, body_a, body_b, pa, pb, ratio=ratio, constant=constant,
+                               ground_ax=ga[0], ground_ay=ga[1], ground_bx=gb[0], ground_by=gb[1], **common)
+
+    def add_gear(self, joint_1: int, joint_2: int, ratio: float = 1.0, **common) -> int:
+        """Couples two revolute or prismatic joints: coordinate_1 + ratio coordinate_2 stays as now."""
+        kinds = self._joints.columns["kind"]
+        for joint in (joint_1, joint_2):
+            if not (0 <= joint < self._joints.rows and kinds[joint] in (J.REVOLUTE, J.PRISMATIC)):
+                raise ValueError(f"a gear couples revolute or prismatic joints; joint {joint} is not one")
+        if joint_1 == joint_2:
+            raise ValueError("a gear couples two different joints")
+        coordinates = self.joint_coordinates
+        constant = coordinates[joint_1] + ratio * coordinates[joint_2]
+        b1, b2 = self._joints.columns["body_b"][joint_1], self._joints.columns["body_b"][joint_2]
+        point = np.zeros(2)
+        row = self._add_joint(J.GEAR, b1, b2, point, point, ratio=ratio, constant=constant, **common)
+        self._joints.columns["joint_1"][row], self._joints.columns["joint_2"][row] = joint_1, joint_2
+        return row
+
+    def _changed(self) -> None:
+        """The world's make-up changed: the kernels' inputs and the step's buffers are made again (the
+        warm-start cache carries over)."""
+        self._inputs = None
+        if self._workspace is not None:
+            self._last_contacts()
+            self._workspace = None
+
+    # joint state, numpy arrays of J rows in joint order
+    @property
+    def joint_count(self) -> int:
+        return self._joints.rows
+
+    @property
+    def joint_types(self) -> np.ndarray:
+        return np.array([JOINT_TYPE_NAMES[k] for k in self._joints.columns["kind"][: self.joint_count]])
+
+    @property
+    def joint_bodies(self) -> np.ndarray:
+        """(J, 2) the bodies of each joint (-1: the fixed world; a gear: its joints' second bodies)."""
+        columns = self._joints.columns
+        return np.stack([columns["body_a"][: self.joint_count], columns["body_b"][: self.joint_count]],
+                        axis=1)
+
+    @property
+    def joint_coordinates(self) -> np.ndarray:
+        """(J,) each joint's coordinate now, zero when it was made: the angle of a revolute or weld joint
+        (rad), the translation along the axis of a prismatic or wheel joint, the anchors' distance of a
+        distance or rope joint, the length_a + ratio length_b of a pulley (m), a gear's coupled sum."""
+        inputs = self._kernel_inputs()
+        from rustycs.joint_solver import joint_coordinates
+
+        return joint_coordinates(inputs.bodies, inputs.joints)
+
+    @property
+    def joint_reaction_forces(self) -> np.ndarray:
+        """(J, 2) the force each joint applied to its second body in the last tick, N."""
+        return self._joints.columns["reaction"][: self.joint_count, J.FORCE_X:J.FORCE_Y + 1].copy()
+
+    @property
+    def joint_reaction_torques(self) -> np.ndarray:
+        """(J,) the torque each joint applied to its second body in the last tick beyond its force's
+        moment, N m."""
+        return self._joints.columns["reaction"][: self.joint_count, J.TORQUE].copy()
+
+    @property
+    def joint_active(self) -> np.ndarray:
+        """(J,) bool: false once the joint broke."""
+        return self._joints.columns["active"][: self.joint_count].copy()
+
+    def events(self) -> dict[str, np.ndarray]:
+        """The events of the last `step` call, in order: tick, kind (str), a and b (bodies; for a
+        joint_break, a is the joint), point (E, 2) and speed."""
+        from rustycs.events import new_events
+
+        events = new_events(0) if self._workspace is None else self._workspace.events
+        n = int(events.count[0])
+        return dict(tick=events.tick[:n].copy(),
+                    kind=np.array([EVENT_KIND_NAMES[k] for k in events.kind[:n]]), a=events.a[:n].copy(),
+                    b=events.b[:n].copy(), point=events.point[:n].copy(), speed=events.speed[:n].copy())
+
+    # ------------------------------------------------------------------ stepping
+    def _kernel_inputs(self) -> KernelInputs:
+        """The records the kernels take, built once per change of the world's make-up, so that stepping
+        and recording tick by tick cost little Python."""
+        if self._inputs is None:
             att = self._attractors
             forces = Forces(
                 gravity=self._gravity,
@@ -181,7 +415,9 @@ class World:
                                       dtype=np.float64),
                 attractor_range=np.array([t["range"] for t in att], dtype=np.float64),
                 attractor_min_distance=np.array([t["min_distance"] for t in att], dtype=np.float64))
-            self._inputs = (self._bodies.view(), self._shapes.view(), forces)
+            joints = self._joints.view()
+            self._inputs = KernelInputs(self._bodies.view(), self._shapes.view(), joints,
+                                        joint_filter(self.body_count, joints), forces)
         return self._inputs
 
     def _settings(self):
@@ -202,7 +438,7 @@ class World:
 
         if n <= 0:
             return 0
-        bodies, shapes, forces = self._kernel_inputs()
+        inputs = self._kernel_inputs()
         if record is None:
             every = 0
             record = self._no_frames = self._no_frames or self.frame_buffer(0)
@@ -211,10 +447,11 @@ class World:
                              "frames")
         if self._workspace is None:
             last = self._last_contacts()
-            self._workspace = new_workspace(self.body_count, self._shapes.rows, MAX_VERTICES, last.key,
-                                            last.normal_impulse, last.tangent_impulse)
-        status, self._workspace = step_world(n, bodies, shapes, forces, self._settings(), self._workspace,
-                                             self.tick, every, tuple(record.values()))
+            self._workspace = new_workspace(self.body_count, self._shapes.rows, self._joints.rows,
+                                            MAX_VERTICES, last.key, last.normal_impulse, last.tangent_impulse)
+        status, self._workspace = step_world(n, inputs.bodies, inputs.shapes, inputs.joints,
+                                             inputs.joint_filter, inputs.forces, self._settings(),
+                                             self._workspace, self.tick, every, tuple(record.values()))
         self._contact_rows = None
         self.escaped_count += int(status[ESCAPED])
         done, recorded, bad = int(status[TICKS_DONE]), int(status[FRAMES]), int(status[BAD_BODY])
@@ -229,20 +466,21 @@ class World:
         """An empty buffer for `capacity` frames of this world (see `step` and `capture`)."""
         from rustycs.recording import frame_buffer
 
-        return frame_buffer(capacity, self.body_count)
+        return frame_buffer(capacity, self.body_count, self._joints.rows)
 
     def capture(self, frames: dict[str, np.ndarray], row: int = 0) -> None:
         """Write the current state into row `row` of a frame buffer, as `step` does after a tick."""
         from rustycs.recording import record_frame
 
-        bodies, _, forces = self._kernel_inputs()
+        inputs = self._kernel_inputs()
         if self._workspace is None:
             from rustycs.narrow_phase import new_contacts
 
             points, n_points = new_contacts(0).points, 0
         else:
             points, n_points = self._workspace.contacts.points, int(self._workspace.contacts.count[1])
-        record_frame(tuple(frames.values()), row, self.tick, bodies, forces, points, n_points)
+        record_frame(tuple(frames.values()), row, self.tick, inputs.bodies, inputs.joints, inputs.forces,
+                     points, n_points)
 
     # ------------------------------------------------------------------ state
     def _get(self, name: str) -> np.ndarray:
@@ -258,7 +496,7 @@ class World:
         """Body origins: the centre of mass plus the rotated offset to the origin."""
         from rustycs.observables import body_origins
 
-        return body_origins(self._bodies.view())
+        return body_origins(self._kernel_inputs().bodies)
 
     @property
     def angles(self) -> np.ndarray:
@@ -375,7 +613,6 @@ class World:
         rows = self._last_contacts()
         touching = (rows.separation <= 0.0) | (rows.normal_impulse > 0.0)
         return dict(body_a=rows.body_a[touching].astype(np.int32),
-                    body_b=rows.body_b[touching].astype(np.int32),
-                    point=rows.point[touching].copy(), normal=rows.normal[touching].copy(),
-                    depth=np.maximum(-rows.separation[touching], 0.0),
+                    body_b=rows.body_b[touching].astype(np.int32), point=rows.point[touching].copy(),
+                    normal=rows.normal[touching].copy(), depth=np.maximum(-rows.separation[touching], 0.0),
                     normal_impulse=rows.normal_impulse[touching].copy())

@@ -1,0 +1,49 @@
+"""Events: what happened in a tick, in the order it happened, recorded by the compiled step.
+
+The World collects them after every `step` call (`World.events()`), so the buffer only holds one call's
+worth.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+CONTACT_BEGIN, CONTACT_END, SENSOR_ENTER, SENSOR_EXIT, SPAWN, REMOVE, ESCAPE, JOINT_BREAK = range(8)
+EVENT_KIND_NAMES = ("contact_begin", "contact_end", "sensor_enter", "sensor_exit", "spawn", "remove",
+                    "escape", "joint_break")
+
+
+class Events(NamedTuple):
+    """The events of a step call; the first count[0] rows are in use."""
+
+    tick: np.ndarray  # (E,) int64: the tick it happened in
+    kind: np.ndarray  # (E,) int64: CONTACT_BEGIN ... JOINT_BREAK
+    a: np.ndarray  # (E,) int64: a body (for JOINT_BREAK: the joint)
+    b: np.ndarray  # (E,) int64: the other body, -1 where there is none
+    point: np.ndarray  # (E, 2) world point: a contact point, else the body's centre
+    speed: np.ndarray  # (E,) m/s: approach speed along the normal of a contact_begin, else 0
+    count: np.ndarray  # int64 (1,)
+
+
+@njit(cache=True)
+def new_events(capacity):
+    return Events(np.zeros(capacity, np.int64), np.zeros(capacity, np.int64), np.zeros(capacity, np.int64),
+                  np.zeros(capacity, np.int64), np.zeros((capacity, 2)), np.zeros(capacity),
+                  np.zeros(1, np.int64))
+
+
+@njit(cache=True, inline="always")
+def record_event(events, tick, kind, a, b, px, py, speed):
+    """Append an event (the caller has made sure there is room)."""
+    k = events.count[0]
+    events.tick[k] = tick
+    events.kind[k] = kind
+    events.a[k] = a
+    events.b[k] = b
+    events.point[k, 0] = px
+    events.point[k, 1] = py
+    events.speed[k] = speed
+    events.count[0] = k + 1

@@ -1,0 +1,496 @@
+"""Joint solver: the joints' passes of the soft step, solved before the contacts in every pass.
+
+Per tick `prepare_joints` puts each joint's anchors and axis in world orientation, and the softness of
+its springs. Each substep then warm starts the accumulated impulses, solves with the soft position bias
+and relaxes without it, as the contacts do (Box2D v3's soft step: a rigid constraint pulls its error back
+as a stiff damped spring of JOINT_HERTZ, a spring with its own hertz and damping ratio). Anchors are
+turned by each body's rotation since the tick began (the solver rows' cos and sin); positions and angles
+are the bodies' current ones. Joints are solved one by one in their order, so the result is
+deterministic.
+
+Every joint is a few constraint rows: Jacobians on body a and body b (linear x, y and angular) and an
+accumulated impulse. One function per joint type lists its rows; the mode says what to do with each:
+warm start (apply the accumulated impulse), solve or relax (find the impulse that cancels the row's rate,
+plus the bias when solving), or add it to the joint's reaction (after the tick: the impulse on body b over
+a substep's length, and the torque beyond the moment of that force about b's centre). A joint whose
+reaction exceeds its break force or torque is switched off (`break_joints`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from rustycs.contact_solver import COS, INV_INERTIA, INV_MASS, SIN, VX, VY, W, softness
+from rustycs.joints import (
+    ANGULAR_HERTZ,
+    ANGULAR_IMPULSE,
+    AXIAL_IMPULSE,
+    BREAK_FORCE,
+    BREAK_TORQUE,
+    CONSTANT,
+    DAMPING_RATIO,
+    DISTANCE,
+    FORCE_X,
+    FORCE_Y,
+    GEAR,
+    GROUND_AX,
+    GROUND_AY,
+    GROUND_BX,
+    GROUND_BY,
+    HERTZ,
+    IMPULSE_X,
+    IMPULSE_Y,
+    LENGTH,
+    LIMIT,
+    LOWER,
+    LOWER_IMPULSE,
+    MAX_LENGTH,
+    MAX_MOTOR,
+    MIN_LENGTH,
+    MOTOR,
+    MOTOR_IMPULSE,
+    MOTOR_SPEED,
+    PERPENDICULAR_IMPULSE,
+    PRISMATIC,
+    PULLEY,
+    RATIO,
+    REVOLUTE,
+    ROPE,
+    SPRING,
+    SPRING_IMPULSE,
+    TORQUE,
+    UPPER,
+    UPPER_IMPULSE,
+    WELD,
+    WHEEL,
+)
+from rustycs.tick_kernel import tick_kernel
+
+# columns of a joint's prepared row (`prepare_joints`): anchors and axis in world orientation at the start
+# of the tick, and the softness of its spring (and of a weld's angular spring)
+(RAX, RAY, RBX, RBY, AXIS_X, AXIS_Y, SPRING_RATE, SPRING_MASS_SCALE, SPRING_IMPULSE_SCALE, ANGULAR_RATE,
+ ANGULAR_MASS_SCALE, ANGULAR_IMPULSE_SCALE) = range(12)
+FRAME_COLUMNS = 12
+
+# What a pass does with a joint's rows. Numpy integers, not Python ints: numba compiles a kernel again for
+# every distinct int literal it is called with (40 versions of `_row` took 20 s), not for an int64.
+WARM, SOLVE, RELAX, REACTION = (np.int64(k) for k in range(4))
+
+# a row's kind: rigid (its error pulled back by the joint softness), a spring (its own softness), a motor
+# (drives the rate to a speed, within a largest impulse), or a one-sided limit (C >= 0)
+RIGID, SPRINGY, DRIVEN, ONE_SIDED = (np.int64(k) for k in range(4))
+
+
+@njit(cache=True, inline="always")
+def _turned(c, s, x, y):
+    return c * x - s * y, s * x + c * y
+
+
+@njit(cache=True, inline="always")
+def _cross(ax, ay, bx, by):
+    return ax * by - ay * bx
+
+
+@njit(cache=True, inline="always")
+def _velocity(body, i):
+    """(vx, vy, w, inverse mass, inverse inertia) of body i; the fixed world (-1) is still and immovable."""
+    if i < 0:
+        return 0.0, 0.0, 0.0, 0.0, 0.0
+    return body[i, VX], body[i, VY], body[i, W], body[i, INV_MASS], body[i, INV_INERTIA]
+
+
+@njit(cache=True, inline="always")
+def _push(body, i, jx, jy, jw, lam):
+    """Body i's velocity after the impulse lam along Jacobian (jx, jy, jw); immovable bodies keep theirs."""
+    if i >= 0:
+        body[i, VX] += body[i, INV_MASS] * jx * lam
+        body[i, VY] += body[i, INV_MASS] * jy * lam
+        body[i, W] += body[i, INV_INERTIA] * jw * lam
+
+
+@njit(cache=True, inline="always")
+def _anchor(body, x, i, f, cx, cy):
+    """Body i's anchor now: its offset from the centre of mass (the tick's, turned by the rotation since)
+    and the world point. The world's anchors are world points about the origin."""
+    if i < 0:
+        return f[cx], f[cy], f[cx], f[cy]
+    rx, ry = _turned(body[i, COS], body[i, SIN], f[cx], f[cy])
+    return rx, ry, x[i, 0] + rx, x[i, 1] + ry
+
+
+@njit(cache=True, inline="always")
+def _rotation(body, i):
+    return (1.0, 0.0) if i < 0 else (body[i, COS], body[i, SIN])
+
+
+@njit(cache=True, inline="always")
+def _angle(angle, i):
+    return 0.0 if i < 0 else angle[i]
+
+
+@njit(cache=True, inline="always")
+def _spin(body, a, b):
+    """Whether the joint's bodies can turn relative to each other."""
+    return (a >= 0 and body[a, INV_INERTIA] > 0.0) or (b >= 0 and body[b, INV_INERTIA] > 0.0)
+
+
+@tick_kernel
+def _row(mode, kind, body, a, b, jax, jay, jaw, jbx, jby, jbw, c, impulses, j, column, soft, spring, target,
+         limit, inv_h, reaction, rbx, rby):
+    """One constraint row of joint j in a pass (see the module), on the bodies' solver rows: Jacobians
+    (jax, jay, jaw) on body a and (jbx, jby, jbw) on body b, c its position error (C), `target` a motor's
+    speed and `limit` its largest impulse. A kernel of its own (not inlined by numba): every joint type
+    has several rows, and inlining them all made the joints take minutes to compile."""
+    old = impulses[j, column]
+    if mode == REACTION:
+        reaction[j, FORCE_X] += jbx * old * inv_h
+        reaction[j, FORCE_Y] += jby * old * inv_h
+        reaction[j, TORQUE] += (jbw - _cross(rbx, rby, jbx, jby)) * old * inv_h
+        return
+    if mode == WARM:
+        _push(body, a, jax, jay, jaw, old)
+        _push(body, b, jbx, jby, jbw, old)
+        return
+    vax, vay, wa, ma, ia = _velocity(body, a)
+    vbx, vby, wb, mb, ib = _velocity(body, b)
+    k = ma * (jax * jax + jay * jay) + ia * jaw * jaw + mb * (jbx * jbx + jby * jby) + ib * jbw * jbw
+    if k <= 0.0:
+        return
+    mass = 1.0 / k
+    rate = jax * vax + jay * vay + jaw * wa + jbx * vbx + jby * vby + jbw * wb
+    if kind == DRIVEN:
+        total = min(max(old - mass * (rate - target), -limit), limit)
+    else:
+        bias = 0.0
+        mass_scale = 1.0
+        impulse_scale = 0.0
+        if kind == SPRINGY:
+            bias, mass_scale, impulse_scale = spring[0] * c, spring[1], spring[2]
+        elif kind == ONE_SIDED and c > 0.0:
+            bias = c * inv_h  # speculative: allow closing the gap, no more
+        elif mode == SOLVE:
+            bias, mass_scale, impulse_scale = soft[0] * c, soft[1], soft[2]
+        total = old - mass_scale * mass * (rate + bias) - impulse_scale * old
+        if kind == ONE_SIDED:
+            total = max(total, 0.0)
+    impulses[j, column] = total
+    _push(body, a, jax, jay, jaw, total - old)
+    _push(body, b, jbx, jby, jbw, total - old)
+
+
+@njit(cache=True, inline="always")
+def _along(ux, uy, lax, lay, rbx, rby, sign):
+    """Jacobians of the rate of (pb - pa) . u, with a's lever arm la and b's rb, times sign."""
+    return (-sign * ux, -sign * uy, -sign * _cross(lax, lay, ux, uy), sign * ux, sign * uy,
+            sign * _cross(rbx, rby, ux, uy))
+
+
+@njit(cache=True, inline="always")
+def _limits(mode, body, a, b, jac, coordinate, lower, upper, impulses, j, soft, spring, inv_h, reaction, rbx,
+            rby):
+    """A coordinate held between lower and upper: two one-sided rows along the Jacobian and against it."""
+    jax, jay, jaw, jbx, jby, jbw = jac
+    _row(mode, ONE_SIDED, body, a, b, jax, jay, jaw, jbx, jby, jbw, coordinate - lower, impulses, j,
+         LOWER_IMPULSE, soft, spring, 0.0, 0.0, inv_h, reaction, rbx, rby)
+    _row(mode, ONE_SIDED, body, a, b, -jax, -jay, -jaw, -jbx, -jby, -jbw, upper - coordinate, impulses, j,
+         UPPER_IMPULSE, soft, spring, 0.0, 0.0, inv_h, reaction, rbx, rby)
+
+
+@njit(cache=True, inline="always")
+def _springs(f):
+    return (f[SPRING_RATE], f[SPRING_MASS_SCALE], f[SPRING_IMPULSE_SCALE])
+
+
+@tick_kernel
+def _revolute_or_weld_pass(mode, bodies, body, joints, frames, soft, h):
+    """Revolute joints (spring, motor, limits on the angle; the anchors meet) and welds (the angle held,
+    rigidly or softly; the anchors meet, rigidly or softly), in their order."""
+    inv_h = 1.0 / h
+    for j in range(joints.kind.shape[0]):
+        kind = joints.kind[j]
+        if not joints.active[j] or (kind != REVOLUTE and kind != WELD):
+            continue
+        a, b = joints.body_a[j], joints.body_b[j]
+        f = frames[j]
+        settings = joints.settings[j]
+        flags = joints.flags[j]
+        impulses, reaction = joints.impulses, joints.reaction
+        spring = _springs(f)
+        angle = _angle(bodies.angle, b) - _angle(bodies.angle, a) - joints.reference_angle[j]
+        if _spin(body, a, b):
+            if kind == WELD:
+                angular = (f[ANGULAR_RATE], f[ANGULAR_MASS_SCALE], f[ANGULAR_IMPULSE_SCALE])
+                _row(mode, SPRINGY if settings[ANGULAR_HERTZ] > 0.0 else RIGID, body, a, b, 0.0, 0.0, -1.0,
+                     0.0, 0.0, 1.0, angle, impulses, j, ANGULAR_IMPULSE, soft, angular, 0.0, 0.0, inv_h,
+                     reaction, 0.0, 0.0)
+            else:
+                if flags & SPRING:
+                    _row(mode, SPRINGY, body, a, b, 0.0, 0.0, -1.0, 0.0, 0.0, 1.0, angle, impulses, j,
+                         SPRING_IMPULSE, soft, spring, 0.0, 0.0, inv_h, reaction, 0.0, 0.0)
+                if flags & MOTOR:
+                    _row(mode, DRIVEN, body, a, b, 0.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, impulses, j,
+                         MOTOR_IMPULSE, soft, spring, settings[MOTOR_SPEED], h * settings[MAX_MOTOR], inv_h,
+                         reaction, 0.0, 0.0)
+                if flags & LIMIT:
+                    _limits(mode, body, a, b, (0.0, 0.0, -1.0, 0.0, 0.0, 1.0), angle, settings[LOWER],
+                            settings[UPPER], impulses, j, soft, spring, inv_h, reaction, 0.0, 0.0)
+        linear = SPRINGY if kind == WELD and settings[HERTZ] > 0.0 else RIGID
+        rax, ray, pax, pay = _anchor(body, bodies.x, a, f, RAX, RAY)
+        rbx, rby, pbx, pby = _anchor(body, bodies.x, b, f, RBX, RBY)
+        jax, jay, jaw, jbx, jby, jbw = _along(1.0, 0.0, rax, ray, rbx, rby, 1.0)
+        _row(mode, linear, body, a, b, jax, jay, jaw, jbx, jby, jbw, pbx - pax, impulses, j, IMPULSE_X, soft,
+             spring, 0.0, 0.0, inv_h, reaction, rbx, rby)
+        jax, jay, jaw, jbx, jby, jbw = _along(0.0, 1.0, rax, ray, rbx, rby, 1.0)
+        _row(mode, linear, body, a, b, jax, jay, jaw, jbx, jby, jbw, pby - pay, impulses, j, IMPULSE_Y, soft,
+             spring, 0.0, 0.0, inv_h, reaction, rbx, rby)
+
+
+@tick_kernel
+def _slider_pass(mode, bodies, body, joints, frames, soft, h):
+    """Prismatic joints (spring, motor, limits along the axis; rigid across it and in angle) and wheels
+    (spring and limits along the axis, a motor turning the wheel; rigid across the axis), in order."""
+    inv_h = 1.0 / h
+    for j in range(joints.kind.shape[0]):
+        kind = joints.kind[j]
+        if not joints.active[j] or (kind != PRISMATIC and kind != WHEEL):
+            continue
+        a, b = joints.body_a[j], joints.body_b[j]
+        f = frames[j]
+        settings = joints.settings[j]
+        flags = joints.flags[j]
+        impulses, reaction = joints.impulses, joints.reaction
+        spring = _springs(f)
+        rax, ray, pax, pay = _anchor(body, bodies.x, a, f, RAX, RAY)
+        rbx, rby, pbx, pby = _anchor(body, bodies.x, b, f, RBX, RBY)
+        dx, dy = pbx - pax, pby - pay
+        ca, sa = _rotation(body, a)
+        ux, uy = _turned(ca, sa, f[AXIS_X], f[AXIS_Y])
+        translation = ux * dx + uy * dy
+        lx, ly = dx + rax, dy + ray  # a's lever arm to b's anchor: the axis turns with a
+        jac = _along(ux, uy, lx, ly, rbx, rby, 1.0)
+        jax, jay, jaw, jbx, jby, jbw = jac
+        if flags & SPRING:
+            _row(mode, SPRINGY, body, a, b, jax, jay, jaw, jbx, jby, jbw, translation, impulses, j,
+                 SPRING_IMPULSE, soft, spring, 0.0, 0.0, inv_h, reaction, rbx, rby)
+        if flags & MOTOR:
+            if kind == PRISMATIC:
+                _row(mode, DRIVEN, body, a, b, jax, jay, jaw, jbx, jby, jbw, 0.0, impulses, j, MOTOR_IMPULSE,
+                     soft, spring, settings[MOTOR_SPEED], h * settings[MAX_MOTOR], inv_h, reaction, rbx, rby)
+            elif _spin(body, a, b):  # a wheel's motor turns it
+                _row(mode, DRIVEN, body, a, b, 0.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, impulses, j, MOTOR_IMPULSE,
+                     soft, spring, settings[MOTOR_SPEED], h * settings[MAX_MOTOR], inv_h, reaction, rbx, rby)
+        if flags & LIMIT:
+            _limits(mode, body, a, b, jac, translation, settings[LOWER], settings[UPPER], impulses, j, soft,
+                    spring, inv_h, reaction, rbx, rby)
+        nx, ny = -uy, ux
+        jax, jay, jaw, jbx, jby, jbw = _along(nx, ny, lx, ly, rbx, rby, 1.0)
+        _row(mode, RIGID, body, a, b, jax, jay, jaw, jbx, jby, jbw, nx * dx + ny * dy, impulses, j,
+             PERPENDICULAR_IMPULSE, soft, spring, 0.0, 0.0, inv_h, reaction, rbx, rby)
+        if kind == PRISMATIC and _spin(body, a, b):
+            angle = _angle(bodies.angle, b) - _angle(bodies.angle, a) - joints.reference_angle[j]
+            _row(mode, RIGID, body, a, b, 0.0, 0.0, -1.0, 0.0, 0.0, 1.0, angle, impulses, j, ANGULAR_IMPULSE,
+                 soft, spring, 0.0, 0.0, inv_h, reaction, rbx, rby)
+
+
+@tick_kernel
+def _length_pass(mode, bodies, body, joints, frames, soft, h):
+    """Distance joints (a rigid rod, or a spring held between min and max length), ropes (at most their
+    length) and pulleys (length_a + ratio length_b held), in order."""
+    inv_h = 1.0 / h
+    for j in range(joints.kind.shape[0]):
+        kind = joints.kind[j]
+        if not joints.active[j] or (kind != DISTANCE and kind != ROPE and kind != PULLEY):
+            continue
+        a, b = joints.body_a[j], joints.body_b[j]
+        f = frames[j]
+        settings = joints.settings[j]
+        flags = joints.flags[j]
+        impulses, reaction = joints.impulses, joints.reaction
+        spring = _springs(f)
+        rax, ray, pax, pay = _anchor(body, bodies.x, a, f, RAX, RAY)
+        rbx, rby, pbx, pby = _anchor(body, bodies.x, b, f, RBX, RBY)
+        if kind == PULLEY:
+            # from each ground anchor to its body's anchor
+            uax, uay = pax - settings[GROUND_AX], pay - settings[GROUND_AY]
+            ubx, uby = pbx - settings[GROUND_BX], pby - settings[GROUND_BY]
+            la = math.sqrt(uax * uax + uay * uay)
+            lb = math.sqrt(ubx * ubx + uby * uby)
+            uax, uay = (uax / la, uay / la) if la > 1e-12 else (0.0, 0.0)
+            ubx, uby = (ubx / lb, uby / lb) if lb > 1e-12 else (0.0, 0.0)
+            ratio = settings[RATIO]
+            _row(mode, RIGID, body, a, b, uax, uay, _cross(rax, ray, uax, uay), ratio * ubx, ratio * uby,
+                 ratio * _cross(rbx, rby, ubx, uby), la + ratio * lb - settings[CONSTANT], impulses, j,
+                 AXIAL_IMPULSE, soft, spring, 0.0, 0.0, inv_h, reaction, rbx, rby)
+            continue
+        dx, dy = pbx - pax, pby - pay
+        length = math.sqrt(dx * dx + dy * dy)
+        ux, uy = (dx / length, dy / length) if length > 1e-12 else (1.0, 0.0)
+        jac = _along(ux, uy, rax, ray, rbx, rby, 1.0)
+        jax, jay, jaw, jbx, jby, jbw = jac
+        if kind == DISTANCE and flags & SPRING:
+            _row(mode, SPRINGY, body, a, b, jax, jay, jaw, jbx, jby, jbw, length - settings[LENGTH], impulses,
+                 j, SPRING_IMPULSE, soft, spring, 0.0, 0.0, inv_h, reaction, rbx, rby)
+        elif kind == DISTANCE:
+            _row(mode, RIGID, body, a, b, jax, jay, jaw, jbx, jby, jbw, length - settings[LENGTH], impulses,
+                 j, AXIAL_IMPULSE, soft, spring, 0.0, 0.0, inv_h, reaction, rbx, rby)
+        if flags & LIMIT:
+            _limits(mode, body, a, b, jac, length, settings[MIN_LENGTH], settings[MAX_LENGTH], impulses, j,
+                    soft, spring, inv_h, reaction, rbx, rby)
+
+
+@njit(cache=True, inline="always")
+def _coordinate(bodies, body, joints, frames, j):
+    """Joint j's coordinate now (revolute: angle; prismatic: translation along the axis) and its
+    Jacobians on its body a and body b."""
+    a, b = joints.body_a[j], joints.body_b[j]
+    if joints.kind[j] == REVOLUTE:
+        angle = _angle(bodies.angle, b) - _angle(bodies.angle, a) - joints.reference_angle[j]
+        return angle, (0.0, 0.0, -1.0, 0.0, 0.0, 1.0)
+    f = frames[j]
+    rax, ray, pax, pay = _anchor(body, bodies.x, a, f, RAX, RAY)
+    rbx, rby, pbx, pby = _anchor(body, bodies.x, b, f, RBX, RBY)
+    ca, sa = _rotation(body, a)
+    ux, uy = _turned(ca, sa, f[AXIS_X], f[AXIS_Y])
+    dx, dy = pbx - pax, pby - pay
+    return ux * dx + uy * dy, _along(ux, uy, dx + rax, dy + ray, rbx, rby, 1.0)
+
+
+@tick_kernel
+def _gear_pass(mode, bodies, body, joints, frames, soft, h):
+    """Gears: coordinate_1 + ratio coordinate_2 stays constant, one row on the four bodies of the two
+    joints (a body in two slots takes both parts), with the joints' Jacobians."""
+    for j in range(joints.kind.shape[0]):
+        if not joints.active[j] or joints.kind[j] != GEAR:
+            continue
+        j1, j2 = joints.joint_1[j], joints.joint_2[j]
+        ratio = joints.settings[j, RATIO]
+        q1, jac1 = _coordinate(bodies, body, joints, frames, j1)
+        q2, jac2 = _coordinate(bodies, body, joints, frames, j2)
+        ids = (joints.body_a[j1], joints.body_b[j1], joints.body_a[j2], joints.body_b[j2])
+        jx = (jac1[0], jac1[3], ratio * jac2[0], ratio * jac2[3])
+        jy = (jac1[1], jac1[4], ratio * jac2[1], ratio * jac2[4])
+        jw = (jac1[2], jac1[5], ratio * jac2[2], ratio * jac2[5])
+        old = joints.impulses[j, AXIAL_IMPULSE]
+        if mode == REACTION:  # the torque on joint 2's body b, the gear's output
+            joints.reaction[j, TORQUE] = jw[3] * old / h
+            continue
+        impulse = old
+        if mode != WARM:
+            rate = 0.0
+            k = 0.0
+            for s in range(4):
+                vx, vy, w, m, i = _velocity(body, ids[s])
+                rate += jx[s] * vx + jy[s] * vy + jw[s] * w
+                for t in range(4):  # the effective mass, with the cross terms of slots on one body
+                    if ids[t] == ids[s]:
+                        k += m * (jx[s] * jx[t] + jy[s] * jy[t]) + i * jw[s] * jw[t]
+            if k <= 0.0:
+                continue
+            bias = 0.0
+            mass_scale = 1.0
+            impulse_scale = 0.0
+            if mode == SOLVE:
+                bias = soft[0] * (q1 + ratio * q2 - joints.settings[j, CONSTANT])
+                mass_scale, impulse_scale = soft[1], soft[2]
+            impulse = -mass_scale * (rate + bias) / k - impulse_scale * old
+            joints.impulses[j, AXIAL_IMPULSE] = old + impulse
+        for s in range(4):
+            _push(body, ids[s], jx[s], jy[s], jw[s], impulse)
+
+
+@tick_kernel
+def joints_pass(mode, bodies, body, joints, frames, soft, h):
+    """One pass of `mode` over the active joints: each kind's joints in their order, the gears last
+    (they couple the others' coordinates)."""
+    _revolute_or_weld_pass(mode, bodies, body, joints, frames, soft, h)
+    _slider_pass(mode, bodies, body, joints, frames, soft, h)
+    _length_pass(mode, bodies, body, joints, frames, soft, h)
+    _gear_pass(mode, bodies, body, joints, frames, soft, h)
+
+
+@njit(cache=True, inline="always")
+def _spring(hertz, damping_ratio, h):
+    """A spring's softness; none (a rigid row's values) where there is no spring."""
+    if not (0.0 < hertz < math.inf):
+        return 0.0, 1.0, 0.0
+    return softness(hertz, damping_ratio, h)
+
+
+@tick_kernel
+def prepare_joints(bodies, joints, h, frames):
+    """The tick's anchors and axes in world orientation, and the softness of the springs."""
+    angle = bodies.angle
+    for j in range(joints.kind.shape[0]):
+        if not joints.active[j]:
+            continue
+        f = frames[j]
+        a, b = joints.body_a[j], joints.body_b[j]
+        ca, sa = (math.cos(angle[a]), math.sin(angle[a])) if a >= 0 else (1.0, 0.0)
+        cb, sb = (math.cos(angle[b]), math.sin(angle[b])) if b >= 0 else (1.0, 0.0)
+        f[RAX], f[RAY] = _turned(ca, sa, joints.local_a[j, 0], joints.local_a[j, 1])
+        f[RBX], f[RBY] = _turned(cb, sb, joints.local_b[j, 0], joints.local_b[j, 1])
+        f[AXIS_X], f[AXIS_Y] = _turned(ca, sa, joints.axis[j, 0], joints.axis[j, 1])
+        settings = joints.settings[j]
+        f[SPRING_RATE], f[SPRING_MASS_SCALE], f[SPRING_IMPULSE_SCALE] = _spring(settings[HERTZ],
+                                                                                settings[DAMPING_RATIO], h)
+        f[ANGULAR_RATE], f[ANGULAR_MASS_SCALE], f[ANGULAR_IMPULSE_SCALE] = _spring(
+            settings[ANGULAR_HERTZ], settings[DAMPING_RATIO], h)
+
+
+@tick_kernel
+def break_joints(bodies, body, joints, frames, h, broken):
+    """Each joint's reaction of the tick (see the module); a joint whose reaction exceeds its break force
+    or torque is switched off. Writes the broken joints' rows into `broken` and returns their number."""
+    for j in range(joints.kind.shape[0]):
+        joints.reaction[j, FORCE_X] = 0.0
+        joints.reaction[j, FORCE_Y] = 0.0
+        joints.reaction[j, TORQUE] = 0.0
+    joints_pass(REACTION, bodies, body, joints, frames, (0.0, 1.0, 0.0), h)
+    count = 0
+    for j in range(joints.kind.shape[0]):
+        if not joints.active[j]:
+            continue
+        settings = joints.settings[j]
+        if (math.hypot(joints.reaction[j, FORCE_X], joints.reaction[j, FORCE_Y]) > settings[BREAK_FORCE]
+                or abs(joints.reaction[j, TORQUE]) > settings[BREAK_TORQUE]):
+            joints.active[j] = False
+            broken[count] = j
+            count += 1
+    return count
+
+
+@njit(cache=True)
+def joint_coordinates(bodies, joints):
+    """Each joint's coordinate from the bodies' poses (see `World.joint_coordinates`)."""
+    x, angle = bodies.x, bodies.angle
+    out = np.zeros(joints.kind.shape[0])
+    for j in range(out.shape[0]):
+        a, b = joints.body_a[j], joints.body_b[j]
+        ca, sa = (math.cos(angle[a]), math.sin(angle[a])) if a >= 0 else (1.0, 0.0)
+        cb, sb = (math.cos(angle[b]), math.sin(angle[b])) if b >= 0 else (1.0, 0.0)
+        rax, ray = _turned(ca, sa, joints.local_a[j, 0], joints.local_a[j, 1])
+        rbx, rby = _turned(cb, sb, joints.local_b[j, 0], joints.local_b[j, 1])
+        dx = (x[b, 0] if b >= 0 else 0.0) + rbx - (x[a, 0] if a >= 0 else 0.0) - rax
+        dy = (x[b, 1] if b >= 0 else 0.0) + rby - (x[a, 1] if a >= 0 else 0.0) - ray
+        kind = joints.kind[j]
+        settings = joints.settings[j]
+        if kind == REVOLUTE or kind == WELD:
+            out[j] = _angle(angle, b) - _angle(angle, a) - joints.reference_angle[j]
+        elif kind == PRISMATIC or kind == WHEEL:
+            ux, uy = _turned(ca, sa, joints.axis[j, 0], joints.axis[j, 1])
+            out[j] = ux * dx + uy * dy
+        elif kind == DISTANCE or kind == ROPE:
+            out[j] = math.sqrt(dx * dx + dy * dy)
+        elif kind == PULLEY:
+            pax = (x[a, 0] if a >= 0 else 0.0) + rax - settings[GROUND_AX]
+            pay = (x[a, 1] if a >= 0 else 0.0) + ray - settings[GROUND_AY]
+            pbx = (x[b, 0] if b >= 0 else 0.0) + rbx - settings[GROUND_BX]
+            pby = (x[b, 1] if b >= 0 else 0.0) + rby - settings[GROUND_BY]
+            out[j] = math.sqrt(pax * pax + pay * pay) + settings[RATIO] * math.sqrt(pbx * pbx + pby * pby)
+    for j in range(out.shape[0]):  # gears after the joints they couple
+        if joints.kind[j] == GEAR:
+            out[j] = out[joints.joint_1[j]] + joints.settings[j, RATIO] * out[joints.joint_2[j]]
+    return out
