@@ -143,7 +143,9 @@ def test_curved_ramp_is_a_quarter_circle_of_64_points() -> None:
     assert steps == pytest.approx([0.5 * math.pi / 63] * 63, abs=1e-6)  # evenly spread, in order
     assert floor.position[0] - floor.shape.width / 2 == 3  # the floor goes on where the ramp ends
     assert isinstance(ball.shape, Circle)
-    assert 0 < 3 - math.dist(ball.position, (3, 3)) - ball.shape.radius < 0.1  # just inside, at the top
+    assert 3 - math.dist(ball.position, (3, 3)) - ball.shape.radius == pytest.approx(0, abs=1e-6)  # on it
+    assert math.degrees(math.atan2(3 - ball.position[0], 3 - ball.position[1])) == pytest.approx(50, abs=1e-4)
+    assert ball.position[1] - ball.shape.radius == pytest.approx(1.0, abs=1e-3)  # 1 m above the bottom
 
 
 def test_capsule_pile_starts_apart_inside_its_container() -> None:
