@@ -13,6 +13,7 @@ reads the others as their fill value, 0.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -50,6 +51,18 @@ class ShapeTable:
     def vertex_count(self) -> np.ndarray:
         """[S] int32 points of each shape."""
         return np.array([len(p) for p in self.points], dtype=np.int32)
+
+    def body_points(self, s: int) -> np.ndarray:
+        """[k, 2] the points that place shape s in its body's frame (its angle and offset applied): a
+        circle's centre, the centres of a capsule's end circles, else its points."""
+        if self.type[s] == "circle":
+            local = np.zeros((1, 2))
+        elif self.type[s] == "capsule":
+            local = np.array([[-self.length[s] / 2, 0.0], [self.length[s] / 2, 0.0]])
+        else:
+            local = self.points[s]
+        c, sin = math.cos(self.angle[s]), math.sin(self.angle[s])
+        return local @ np.array([[c, sin], [-sin, c]]) + self.offset[s]
 
 
 def shape_table(world: Any, materials: Sequence[str]) -> ShapeTable:

@@ -144,23 +144,10 @@ def _load(file: h5py.File, source: str) -> RunInfo:
 
 def outlines(table: ShapeTable, body_count: int) -> Outlines:
     """The shapes of a /shapes table placed on their bodies, ready to draw."""
-    cos, sin = np.cos(table.angle), np.sin(table.angle)
-
-    def placed(s: int, local: np.ndarray) -> np.ndarray:
-        x, y = local[:, 0], local[:, 1]
-        return np.stack([cos[s] * x - sin[s] * y, sin[s] * x + cos[s] * y], axis=-1) + table.offset[s]
-
     styles = [STYLES[kind] for kind in table.type]
-    parts = []
-    for s, style in enumerate(styles):
-        if style == "disc":
-            parts.append(placed(s, np.zeros((1, 2))))
-        elif style == "stadium":
-            half = table.length[s] / 2
-            parts.append(placed(s, np.array([[-half, 0.0], [half, 0.0]])))
-        else:
-            parts.append(placed(s, table.points[s]))
+    parts = [table.body_points(s) for s in range(table.count)]
     discs = np.array([style == "disc" for style in styles], dtype=bool).reshape(-1, 1)
+    cos, sin = np.cos(table.angle), np.sin(table.angle)
     tips = table.offset + np.stack([-sin * table.radius, cos * table.radius], axis=-1)  # local (0, r)
     return Outlines(
         body=table.body.astype(np.int64),
