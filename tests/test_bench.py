@@ -16,6 +16,7 @@ from rustycs_cli.bench import peers, quality, suite
 from rustycs_cli.bench.report import print_report
 from rustycs_cli.bench.spec import BenchScene, BodySpec, ShapeSpec, describe
 from rustycs_cli.build import build_world
+from rustycs_cli.errors import UserError
 from rustycs_cli.loading import load_scene_text
 
 HAVE_PEERS = all(importlib.util.find_spec(name) for name in peers.ENGINES)
@@ -342,3 +343,17 @@ def test_scene_ids_in_any_case_and_compounds_only_when_named():
     found = find_scenes(default_scene_dir(), ["compounds", "S1"])
     assert [path.name for path in found.values()] == ["compounds.yaml", "S1_bounce.yaml"]
     assert list(found) == ["compounds", "S1"]
+
+
+@pytest.mark.parametrize("shape, what", [
+    ("{type: capsule, length: 1, radius: 0.2}", "a capsule"),
+    ("{type: circle, radius: 0.5, sensor: true}", "a sensor"),
+    ("{type: polygon, vertices: [[0, 0], [2, 0], [1, 0.5], [1, 2]]}", "a concave or > 8-vertex polygon"),
+])
+def test_shapes_the_peers_would_build_otherwise_are_refused(shape: str, what: str):
+    text = f"name: odd\nbodies:\n  - {{name: odd, type: static, shape: {shape}, position: [0, 0]}}\n"
+    scene = load_scene_text(text, "odd.yaml").scene
+    with pytest.raises(UserError) as raised:
+        describe(scene, build_world(scene))
+    assert raised.value.messages == [f"odd: body 'odd' has {what}; the peer engines are given only circle, "
+                                     "aabb, obb, polygon and segment shapes"]
