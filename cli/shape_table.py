@@ -130,9 +130,9 @@ def _rows(rows: np.ndarray, total: int) -> slice | np.ndarray:
 
 def _write_vertices(group: h5py.Group, points: list[np.ndarray], counts: np.ndarray) -> None:
     columns = max(1, int(counts.max(initial=0)))
-    dataset = group.create_dataset(
-        "vertices", shape=(len(points), columns, 2), dtype="f8", fillvalue=0.0,
-        chunks=(max(1, min(len(points), CHUNK_ROWS)), min(columns, BAND), 2))
+    chunks = (min(len(points), CHUNK_ROWS), min(columns, BAND), 2) if points else None  # no shapes, no chunks
+    dataset = group.create_dataset("vertices", shape=(len(points), columns, 2), dtype="f8", fillvalue=0.0,
+                                   chunks=chunks)
     dataset.attrs["unit"] = "m"
     for band, rows in _bands(counts, columns):
         block = np.zeros((len(rows), band.stop - band.start, 2))

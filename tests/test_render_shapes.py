@@ -193,3 +193,13 @@ def test_example_l_brackets(cli, run_scene, tmp_path: Path):
 
         assert colour((0.1, -0.175)) == colour((-0.175, 0.1)) == MATERIAL_COLORS[material]  # both arms
         assert empty(colour((0.15, 0.15)))  # the notch
+
+
+def test_a_scene_without_bodies_is_recorded_drawn_and_described(cli, run_scene, tmp_path: Path):
+    trajectory = run_scene("name: empty\nworld: {ticks: 3}\n")
+    with h5py.File(trajectory, "r") as f:
+        assert f["shapes/vertices"].shape == (0, 1, 2) and f["shapes/type"].shape == (0,)
+    assert empty(at(render(cli, trajectory, tmp_path / "empty.png"), 0.5, 0.5))
+    assert cli("render", trajectory, "-o", tmp_path / "empty.html").exit_code == 0
+    info = cli("info", trajectory)
+    assert info.exit_code == 0 and "shapes" in info.stdout

@@ -49,6 +49,8 @@ def _shapes_line(shapes: dict | None) -> str:
     """`S: n type, ...; k sensors`, or a note for files written before /shapes existed."""
     if shapes is None:
         return "not recorded (an older file)"
+    if not shapes["total"]:
+        return "0"
     sensors = shapes["sensors"]
     return (f"{shapes['total']}: " + ", ".join(f"{n} {k}" for k, n in shapes["by_type"].items())
             + f"; {sensors} sensor{'' if sensors == 1 else 's'}")
