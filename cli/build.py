@@ -4,16 +4,31 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from .errors import UserError
-from .scene import Aabb, Body, Circle, Material, Obb, Polygon, Scene
+from .scene import Aabb, Body, Capsule, Chain, Circle, Material, MaterialRef, Obb, Polygon, Scene, Segment
 
 if TYPE_CHECKING:
     import rustycs
 
+    from .scene import Shape
+
 
 def material_names(scene: Scene) -> list[str]:
     """Per body, the name of its material (preset or user), or "inline" for an inline one."""
-    return ["inline" if isinstance(body.material, Material) else body.material for body in scene.bodies]
+    return [_material_name(body.material) for body in scene.bodies]
+
+
+def shape_material_names(scene: Scene) -> list[str]:
+    """Per shape (bodies in scene order, each body's shapes in order, as `World.shapes` lists them), the
+    name of the material it uses: its own, else its body's; "inline" for an inline one."""
+    return [
+        _material_name(body.material if shape.material is None else shape.material)
+        for body in scene.bodies
+        for shape in body.shapes or ()
+    ]
+
+
+def _material_name(ref: MaterialRef) -> str:
+    return "inline" if isinstance(ref, Material) else ref
 
 
 def build_world(scene: Scene) -> rustycs.World:
@@ -37,69 +52,57 @@ def build_world(scene: Scene) -> rustycs.World:
             min_distance=attractor.min_distance,
         )
     for body in scene.bodies:
-        _check_buildable(body)
-        material = scene.material_of(body)
-        world.add_body(
-            _shape(body),
-            position=body.position,
-            angle=body.angle,
-            velocity=body.velocity,
-            angular_velocity=body.angular_velocity,
-            body_type=body.type,
-            material=rustycs.Material(material.density, material.restitution, material.friction),
-            mass=body.mass,
-            collision_group=body.collision_group,
-        )
-    counts = world.vertex_counts  # a polygon split into convex pieces has none
-    for body, count in zip(scene.bodies, counts, strict=True):
-        if isinstance(body.shape, Polygon) and count == 0:
-            raise UserError(
-                f"body '{body.name}': its polygon is concave or has more than 8 vertices: {_NOT_YET}"
-            )
+        _add_body(world, scene, body)
     return world
 
 
-# Until building, recording and drawing bodies made of shapes is done (the issue's next phase), bodies that
-# need it are refused here rather than run without what they ask for.
-_NOT_YET = "this version of rustycs validates it but cannot run it yet"
-_NEW_BODY_KEYS = (
-    "collision_category",
-    "collision_mask",
-    "linear_damping",
-    "angular_damping",
-    "gravity_scale",
-    "fixed_rotation",
-    "bullet",
-)
-_NEW_SHAPE_KEYS = ("offset", "angle", "material", "sensor")
+def _add_body(world: rustycs.World, scene: Scene, body: Body) -> int:
+    """Add one body with all its shapes and keys; returns its index."""
+    return world.add_body(
+        [_shape(shape, scene) for shape in body.shapes or ()],
+        position=body.position,
+        angle=body.angle,
+        velocity=body.velocity,
+        angular_velocity=body.angular_velocity,
+        body_type=body.type,
+        material=_engine_material(scene.material_of(body)),
+        mass=body.mass,
+        collision_group=body.collision_group,
+        collision_category=body.collision_category,
+        collision_mask=body.collision_mask,
+        linear_damping=body.linear_damping,
+        angular_damping=body.angular_damping,
+        gravity_scale=body.gravity_scale,
+        fixed_rotation=body.fixed_rotation,
+        bullet=body.bullet,
+    )
 
 
-def _check_buildable(body: Body) -> None:
-    """Raise a UserError when `body` needs what is not built yet: several shapes, a capsule, segment or
-    chain, or any of the keys that came with them."""
-    shapes = body.shapes or []
-    if len(shapes) > 1:
-        raise UserError(f"body '{body.name}': it has several shapes: {_NOT_YET}")
-    (shape,) = shapes
-    if not isinstance(shape, (Circle, Aabb, Obb, Polygon)):
-        raise UserError(f"body '{body.name}': its shape is a {shape.type}: {_NOT_YET}")
-    keys = [
-        f"shape.{key}"
-        for key in _NEW_SHAPE_KEYS
-        if getattr(shape, key) != type(shape).model_fields[key].default
-    ]
-    keys += [key for key in _NEW_BODY_KEYS if getattr(body, key) != Body.model_fields[key].default]
-    if keys:
-        raise UserError(f"body '{body.name}': it sets {', '.join(keys)}: {_NOT_YET}")
-
-
-def _shape(body: Body) -> rustycs.Circle | rustycs.Box | rustycs.Polygon:
-    """The engine shape of a body."""
+def _engine_material(material: Material) -> rustycs.Material:
     import rustycs
 
-    (shape,) = body.shapes or []
+    return rustycs.Material(material.density, material.restitution, material.friction)
+
+
+def _shape(shape: Shape, scene: Scene) -> rustycs.shapes.Shape:
+    """The engine shape of a scene shape, placed and made of what it names (None: its body's material)."""
+    import rustycs
+
+    placed = {
+        "offset": shape.offset,
+        "angle": shape.angle,
+        "material": None if shape.material is None else _engine_material(scene.material(shape.material)),
+        "sensor": shape.sensor,
+    }
     if isinstance(shape, Circle):
-        return rustycs.Circle(radius=shape.radius)
+        return rustycs.Circle(shape.radius, **placed)
     if isinstance(shape, (Aabb, Obb)):
-        return rustycs.Box(shape.width, shape.height, rotates=isinstance(shape, Obb))
-    return rustycs.Polygon([list(v) for v in shape.vertices])
+        return rustycs.Box(shape.width, shape.height, rotates=isinstance(shape, Obb), **placed)
+    if isinstance(shape, Polygon):
+        return rustycs.Polygon(shape.vertices, **placed)
+    if isinstance(shape, Capsule):
+        return rustycs.Capsule(shape.length, shape.radius, **placed)
+    if isinstance(shape, Segment):
+        return rustycs.Segment(shape.points, **placed)
+    assert isinstance(shape, Chain)
+    return rustycs.Chain(shape.points, loop=shape.loop, **placed)

@@ -1211,9 +1211,14 @@ class Scene(_Model):
 
     def material_of(self, body: Body) -> Material:
         """The material a body uses (user materials take precedence over presets)."""
-        if isinstance(body.material, Material):
-            return body.material
-        return self.materials.get(body.material) or PRESET_MATERIALS[body.material]
+        return self.material(body.material)
+
+    def material(self, ref: MaterialRef) -> Material:
+        """The material a body's or a shape's `material` names (user materials take precedence over
+        presets), or the inline one it is."""
+        if isinstance(ref, Material):
+            return ref
+        return self.materials.get(ref) or PRESET_MATERIALS[ref]
 
 
 def default_body_name(shape_types: Sequence[Any], index: int) -> str:

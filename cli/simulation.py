@@ -66,7 +66,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
     """
     import rustycs
 
-    from .build import build_world, material_names
+    from .build import build_world, material_names, shape_material_names
     from .summary import SummaryTracker, sidecar_path, to_json, write_text_atomic
     from .trajectory import (
         BLOCK_FRAMES,
@@ -91,6 +91,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
         tracker = SummaryTracker(list(world.body_types))
         writer = TrajectoryWriter(
             out, world, names=names, materials=material_names(scene),
+            shape_materials=shape_material_names(scene),
             collision_groups=[body.collision_group for body in scene.bodies],
             attractor_names=[a.name or f"attractor-{k}" for k, a in enumerate(scene.attractors)],
             author="unknown", scene_text=loaded.text, overrides=loaded.overrides,

@@ -1,12 +1,13 @@
 """HDF5 trajectory files (H5MD 1.1, dimension 2): writing a run frame by frame, and reading one back.
 
-The layout is the spec's (trajectory-format.md). Additions beyond it, for the renderer and analysis:
+The layout is the spec's (trajectory-format.md), /shapes written by `shape_table`; /joints and /events
+have zero rows until the engine has joints and events. Additions beyond the spec, for the renderer and
+analysis:
 
-    /particles/bodies/radius          float64 [N]       circle radius (0 for polygons and boxes)
-    /particles/bodies/vertex_count    int32 [N]         0 for circles, 4 for boxes, 3..8 for polygons
-    /particles/bodies/vertices        float64 [N, 8, 2] unrotated vertices about the BODY ORIGIN,
-                                                        counter-clockwise; rows past vertex_count are 0
+    /particles/bodies/local_center    float64 [N, 2]    the centre of mass in the body's frame, about its
+                                                        origin (where velocities apply)
     /particles/bodies/collision_group int32 [N]         same non-zero group: never collide
+    /shapes/loop                      bool [S]          a chain closed from its last point to its first
     /world/attractors/name            str [A]
     /world/attractors/position        float64 [A, 2]
     /world/attractors/mass, range, min_distance  float64 [A]  (range inf for a global attractor)
@@ -128,6 +129,20 @@ CONTACT_FIELDS = {  # name: (row shape, dtype, unit); [C, *shape]
     "depth": ((), "f8", "m"),
     "normal_impulse": ((), "f8", "N s"),
 }
+JOINT_SERIES = {  # name: (per-joint row shape, dtype, unit); value [T, J, *shape]
+    "reaction_force": ((2,), "f8", "N"),
+    "reaction_torque": ((), "f8", "N m"),
+    "active": ((), "bool", None),
+}
+EVENT_FIELDS = {  # name: (row shape, dtype, unit); [E, *shape]
+    "tick": ((), "i8", None),
+    "time": ((), "f8", "s"),
+    "kind": ((), "str", None),
+    "body_a": ((), "i4", None),
+    "body_b": ((), "i4", None),
+    "point": ((2,), "f8", "m"),
+    "speed": ((), "f8", "m s-1"),
+}
 BLOCK_FRAMES = 64  # frames held in memory before they are appended to the file
 FLUSH_FRAMES = 4 * BLOCK_FRAMES  # the same when whole blocks are appended (`append_block`)
 CHUNK_FRAMES = BLOCK_FRAMES  # frames per chunk (a block fills whole chunks), fewer when a frame is large
@@ -228,6 +243,12 @@ class _Growing:
         self.buffer[self.used:end] = rows
         self.used = end
 
+    def empty_rows(self, count: int) -> np.ndarray:
+        """`count` rows of this dataset's shape and dtype (zeros; none at all for zero-width rows)."""
+        import numpy as np
+
+        return np.zeros((count, *self.buffer.shape[1:]), self.buffer.dtype)
+
     def _grow(self, rows: int) -> None:
         import numpy as np
 
@@ -250,7 +271,7 @@ class _Growing:
             inner = (0,) * (self.buffer.ndim - 1)
             for first in range(0, rows, chunk):
                 self.dataset.id.write_direct_chunk((start + first, *inner), self.buffer[first:first + chunk])
-        else:
+        elif self.buffer[0].size:  # rows of zero width (no joints) have nothing to write
             # write_direct: the buffer goes to HDF5 as it is, without h5py's slicing machinery
             self.dataset.write_direct(self.buffer, source_sel=np.s_[:rows], dest_sel=np.s_[start:])
         self.buffer[:self.used - rows] = self.buffer[rows:self.used]
@@ -270,9 +291,11 @@ class TrajectoryWriter:
     """
 
     def __init__(self, path: Path, world: Any, *, names: list[str], materials: list[str],
-                 collision_groups: list[int], attractor_names: list[str], author: str,
-                 scene_text: str, overrides: tuple[str, ...], contacts: bool, compress: bool):
+                 shape_materials: list[str], collision_groups: list[int], attractor_names: list[str],
+                 author: str, scene_text: str, overrides: tuple[str, ...], contacts: bool, compress: bool):
         import h5py
+
+        from .shape_table import shape_table, write_shapes
 
         self.path = Path(path)
         self.temporary = temporary_path(self.path)
@@ -282,6 +305,8 @@ class TrajectoryWriter:
         try:
             self._write_static(world, names, materials, collision_groups, attractor_names, author,
                                scene_text, overrides)
+            write_shapes(self._file, shape_table(world, shape_materials))
+            _write_empty_events(self._file)
             self._create_series(world.body_count, contacts,
                                 {"compression": "gzip", "shuffle": True} if compress else {})
         except BaseException:
@@ -316,10 +341,10 @@ class TrajectoryWriter:
             bodies.create_dataset(key, data=np.array([str(v) for v in values], dtype=object), dtype=text)
         bodies.create_dataset("mass", data=np.asarray(world.masses, "f8")).attrs["unit"] = "kg"
         bodies.create_dataset("inertia", data=np.asarray(world.inertias, "f8")).attrs["unit"] = "kg m2"
-        bodies.create_dataset("radius", data=np.asarray(world.radii, "f8")).attrs["unit"] = "m"
-        bodies.create_dataset("vertex_count", data=np.asarray(world.vertex_counts, "i4"))
-        vertices = np.asarray(world.local_vertices, "f8").reshape(world.body_count, 8, 2)
-        bodies.create_dataset("vertices", data=vertices).attrs["unit"] = "m"
+        # every body of a scene is there from the start (emitted bodies will have later ticks)
+        bodies.create_dataset("spawn_tick", data=np.zeros(world.body_count, "i8"))
+        center = np.asarray(world.local_centers, "f8").reshape(world.body_count, 2)
+        bodies.create_dataset("local_center", data=center).attrs["unit"] = "m"
         bodies.create_dataset("collision_group", data=np.asarray(collision_groups, "i4"))
 
         attractors = file.create_group("world/attractors")
@@ -337,6 +362,7 @@ class TrajectoryWriter:
         parameters.create_dataset("overrides", data=np.array(list(overrides), dtype=object), dtype=text)
 
     def _create_series(self, body_count: int, contacts: bool, options: dict[str, Any]) -> None:
+        import h5py
 
         file = self._file
         position = file.create_group("particles/bodies/position")
@@ -354,6 +380,15 @@ class TrajectoryWriter:
             group = file.create_group(f"observables/{name}")
             group["step"], group["time"] = self._step.dataset, self._time.dataset
             self._observables[name] = _Growing(group, "value", shape, dtype, CHUNK_FRAMES * 4, options, unit)
+        joints = file.create_group("joints")
+        text = h5py.string_dtype()
+        for name, dtype in (("name", text), ("type", text), ("body_a", "i4"), ("body_b", "i4")):
+            joints.create_dataset(name, shape=(0,), dtype=dtype)
+        self._joints: dict[str, _Growing] = {}
+        for name, (shape, dtype, unit) in JOINT_SERIES.items():
+            group = joints.create_group(name)
+            group["step"], group["time"] = self._step.dataset, self._time.dataset
+            self._joints[name] = _Growing(group, "value", (0, *shape), dtype, CHUNK_FRAMES * 4, options, unit)
         self._contacts: dict[str, _Growing] | None = None
         if contacts:
             group = file.create_group("contacts")
@@ -374,6 +409,8 @@ class TrajectoryWriter:
             series.append(getattr(frame, name))
         for name, series in self._observables.items():
             series.append(frame.observables[name])
+        for series in self._joints.values():
+            series.extend(series.empty_rows(1))
         if self._contacts is not None:
             if frame.contacts is None:
                 raise ValueError("this trajectory records contacts: capture frames with contacts=True")
@@ -395,6 +432,8 @@ class TrajectoryWriter:
         self._time.extend(ticks * self.dt)
         for name, series in (*self._series.items(), *self._observables.items()):
             series.extend(frames[name][:count])
+        for series in self._joints.values():
+            series.extend(series.empty_rows(count))
         self.frames += count
         # whole multiples of FLUSH_FRAMES only, so that each write fills whole chunks (a run's first frame
         # comes alone) and HDF5 is called a few times per 256 frames
@@ -411,7 +450,8 @@ class TrajectoryWriter:
             series.flush()
 
     def _all_series(self) -> list[_Growing]:
-        found = [self._step, self._time, *self._series.values(), *self._observables.values()]
+        found = [self._step, self._time, *self._series.values(), *self._observables.values(),
+                 *self._joints.values()]
         if self._contacts is not None:
             found += [self._offset, *self._contacts.values()]
         return found
@@ -439,6 +479,19 @@ class TrajectoryWriter:
         if self._file.id.valid:
             self._file.close()
         self.temporary.unlink(missing_ok=True)
+
+
+def _write_empty_events(file: h5py.File) -> None:
+    """/events with zero rows: the spec's paths exist in every file, so readers need no special case
+    (the engine reports no events yet)."""
+    import h5py
+
+    events = file.create_group("events")
+    for name, (shape, dtype, unit) in EVENT_FIELDS.items():
+        dataset = events.create_dataset(name, shape=(0, *shape),
+                                        dtype=h5py.string_dtype() if dtype == "str" else dtype)
+        if unit:
+            dataset.attrs["unit"] = unit
 
 
 def package_version() -> str:
@@ -472,9 +525,22 @@ def read_scene(file: h5py.File) -> tuple[str, list[str]]:
     return parameters["scene"].asstr()[()], read_strings(parameters["overrides"])
 
 
+def _shape_counts(file: h5py.File) -> dict[str, Any] | None:
+    """How many shapes of each type (and how many sensors) /shapes holds; None for files written before
+    it existed."""
+    from collections import Counter
+
+    if "shapes" not in file:
+        return None
+    types = read_strings(file["shapes/type"])
+    return {"total": len(types), "by_type": dict(Counter(types)),
+            "sensors": int(file["shapes/sensor"][()].sum())}
+
+
 def describe(path: str | Path) -> dict[str, Any]:
     """What a trajectory holds (for `rustycs info`): run parameters, body counts by type and shape,
-    and the summary. Raises UserError for files that are not readable rustycs trajectories."""
+    shape counts by type, and the summary. Raises UserError for files that are not readable rustycs
+    trajectories."""
     from collections import Counter
 
     with open_trajectory(path) as file:
@@ -496,6 +562,7 @@ def describe(path: str | Path) -> dict[str, Any]:
                 "contacts_recorded": "contacts" in file,
                 "bodies": {"total": len(types), "by_type": dict(Counter(types)),
                            "by_shape": dict(Counter(shapes))},
+                "shapes": _shape_counts(file),
                 "attractors": len(file["world/attractors/name"]) if "world/attractors/name" in file else 0,
                 "summary": summary,
             }

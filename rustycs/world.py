@@ -555,40 +555,6 @@ class World:
         if angular_velocity is not None and not self._bodies.columns["fixed_rotation"][body]:
             self._bodies.columns["w"][body] = angular_velocity
 
-    # per body, the geometry of a body of one circle, box or convex polygon (the trajectory's additions)
-    def _single_piece(self) -> list[int | None]:
-        return [int(first) if count == 1 else None for first, count in
-                zip(self._get("first_shape"), self._get("shape_count"), strict=True)]
-
-    @property
-    def radii(self) -> np.ndarray:
-        """(N,) circle radius (0 for other bodies)."""
-        from rustycs.pieces import CIRCLE
-
-        shapes = self._shapes.columns
-        return np.array([shapes["radius"][j] if j is not None and shapes["kind"][j] == CIRCLE else 0.0
-                         for j in self._single_piece()])
-
-    @property
-    def vertex_counts(self) -> np.ndarray:
-        """(N,) vertices of a body of one box or convex polygon (0 for other bodies)."""
-        from rustycs.pieces import BOX, POLYGON
-
-        shapes = self._shapes.columns
-        return np.array([shapes["count"][j] if j is not None and shapes["kind"][j] in (BOX, POLYGON) else 0
-                         for j in self._single_piece()], dtype=np.int64)
-
-    @property
-    def local_vertices(self) -> np.ndarray:
-        """(N, 8, 2) those vertices, unrotated, relative to the body origin (rows past the count are 0)."""
-        out = np.zeros((self.body_count, MAX_VERTICES, 2))
-        counts = self.vertex_counts
-        centers = self.local_centers
-        for i, j in enumerate(self._single_piece()):
-            if counts[i]:
-                out[i, :counts[i]] = self._shapes.columns["vertices"][j, :counts[i]] + centers[i]
-        return out
-
     def observables(self) -> dict:
         """Energies and momenta of the dynamic bodies and their fastest speed; contact count and
         deepest overlap of the last tick."""

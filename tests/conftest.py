@@ -24,6 +24,37 @@ bodies:
      velocity: [0.5, 0]}
 output: {every: 1, contacts: true}
 """
+# Every shape kind: a static body of lines (a segment, a closed chain) and a sensor region, a dynamic cup
+# of three boxes (one of its own material) and a sensor disc, a concave L, a turned capsule, an offset circle.
+EVERY_SHAPE = """\
+name: every-shape
+world: {tick_rate: 60, ticks: 2, precision: 4}
+bodies:
+  - name: ground
+    type: static
+    position: [0, 0]
+    material: stone
+    shapes:
+      - {type: segment, points: [[-4, 0], [4, 0]]}
+      - {type: chain, points: [[-3.5, 4], [-2.5, 4], [-2.5, 5]], loop: true}
+      - {type: aabb, width: 1, height: 0.4, offset: [3, 4.5], sensor: true}
+  - name: cup
+    position: [0, 2]
+    material: plastic
+    shapes:
+      - {type: obb, width: 2.0, height: 0.2, offset: [0, -0.9]}
+      - {type: obb, width: 0.2, height: 2.0, offset: [-0.9, 0]}
+      - {type: obb, width: 0.2, height: 2.0, offset: [0.9, 0], material: rubber}
+      - {type: circle, radius: 0.5, offset: [0, 0.2], sensor: true}
+  - name: hook
+    position: [-2.5, 1.5]
+    velocity: [0, 5]
+    material: metal
+    shape: {type: polygon, vertices: [[0, 0], [1, 0], [1, 0.25], [0.25, 0.25], [0.25, 1], [0, 1]]}
+  - {name: pill, shape: {type: capsule, length: 1, radius: 0.25}, position: [2.5, 1.5], angle: 0.5,
+     material: rubber}
+  - {name: wheel, shape: {type: circle, radius: 0.4, offset: [0.3, 0]}, position: [-1, 4], material: plastic}
+"""
 
 
 @pytest.fixture(scope="session")

@@ -14,8 +14,9 @@ from rich.console import Console
 
 from rustycs_cli.bench import peers, quality, suite
 from rustycs_cli.bench.report import print_report
-from rustycs_cli.bench.spec import BenchScene, BodySpec, describe
+from rustycs_cli.bench.spec import BenchScene, BodySpec, ShapeSpec, describe
 from rustycs_cli.build import build_world
+from rustycs_cli.errors import UserError
 from rustycs_cli.loading import load_scene_text
 
 HAVE_PEERS = all(importlib.util.find_spec(name) for name in peers.ENGINES)
@@ -26,11 +27,15 @@ SQUARE = ((-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5))
 
 def body(kind: str = "circle", position=(0.0, 0.0), body_type: str = "dynamic", radius: float = 0.5,
          vertices=SQUARE, angle: float = 0.0, group: int = 0) -> BodySpec:
+    """A body of one shape about its origin: a circle, or a polygon of `vertices`."""
+    mass = 1.0 if body_type == "dynamic" else math.inf
+    shape = ShapeSpec(kind="circle" if kind == "circle" else "polygon",
+                      points=((0.0, 0.0),) if kind == "circle" else tuple(vertices), centre=(0.0, 0.0),
+                      radius=radius if kind == "circle" else 0.0, mass=1.0 if body_type == "dynamic" else 0.0,
+                      friction=0.6, restitution=0.0)
     return BodySpec(kind=kind, body_type=body_type, position=position, angle=angle, velocity=(0.0, 0.0),
-                    angular_velocity=0.0, radius=radius if kind == "circle" else 0.0,
-                    vertices=() if kind == "circle" else tuple(vertices),
-                    mass=1.0 if body_type == "dynamic" else math.inf, friction=0.6, restitution=0.0,
-                    group=group)
+                    angular_velocity=0.0, mass=mass, fixed_rotation=kind == "aabb", group=group,
+                    shapes=(shape,))
 
 
 def bench_scene(*bodies: BodySpec, attractors=()) -> BenchScene:
@@ -120,10 +125,13 @@ def test_describe_reads_the_scene_as_rustycs_builds_it():
     assert bench.gravity == (0.0, -9.81) and bench.dt == pytest.approx(1 / 60)
     assert floor.body_type == "static" and floor.mass == math.inf
     assert crate.kind == "obb" and crate.mass == pytest.approx(0.5) and crate.angle == pytest.approx(0.3)
-    assert wedge.kind == "polygon" and wedge.area == pytest.approx(0.54)
+    assert [s.kind for s in crate.shapes] == ["polygon"] and crate.shapes[0].mass == crate.mass
+    assert wedge.kind == "polygon" and wedge.shapes[0].area == pytest.approx(0.54)
     assert wedge.position == pytest.approx((0.0, 2.0), abs=1e-12)
-    assert ball.velocity == (1.0, 2.0) and ball.radius == 0.3 and ball.friction == 0.6
-    assert slab.kind == "aabb" and slab.mass == 5.0
+    (disc,) = ball.shapes
+    assert ball.velocity == (1.0, 2.0) and disc.radius == 0.3 and disc.friction == 0.6
+    assert slab.kind == "aabb" and slab.mass == 5.0 and slab.fixed_rotation and not crate.fixed_rotation
+    assert floor.fixed_rotation and floor.shapes[0].mass == 0.0
 
 
 @needs_peers
@@ -157,6 +165,84 @@ def test_peers_keep_collision_groups(engine: str):
 
     assert gap_after(2) == pytest.approx(0.8)  # same group: they pass through each other
     assert gap_after(-2) > 0.95  # another group (also in Box2D, where groups must be negative)
+
+
+def shape(kind: str, points, radius: float = 0.0, mass: float = 0.0) -> ShapeSpec:
+    centre = tuple(np.mean(points, axis=0)) if kind != "circle" else points[0]
+    return ShapeSpec(kind=kind, points=tuple(points), centre=centre, radius=radius, mass=mass, friction=0.6,
+                     restitution=0.0)
+
+
+def compound(position, *shapes: ShapeSpec, body_type: str = "dynamic") -> BodySpec:
+    return BodySpec(kind="compound", body_type=body_type, position=position, angle=0.0, velocity=(0.0, 0.0),
+                    angular_velocity=0.0, mass=1.0 if body_type == "dynamic" else math.inf,
+                    fixed_rotation=False, group=0, shapes=shapes)
+
+
+def square(x: float, y: float, half: float = 0.5) -> list[tuple[float, float]]:
+    return [(x - half, y - half), (x + half, y - half), (x + half, y + half), (x - half, y + half)]
+
+
+def test_quality_of_bodies_made_of_shapes():
+    """The container is made of a static body's shapes with area (its segment far below is no wall);
+    overlaps are between shapes of different bodies, never within one."""
+    container = compound((0.0, 0.0), shape("polygon", square(0, -0.5, 0.5)), shape("polygon", square(-5, 2)),
+                         shape("polygon", square(5, 2)), shape("segment", [(-50, -80), (50, -80)]),
+                         body_type="static")
+    pair = compound((0.0, 3.0), shape("polygon", square(0, 0)), shape("polygon", square(0.5, 0)))  # overlap
+    ball = shape("circle", [(0.0, 0.0)], radius=0.3)
+    touching = compound((1.2, 3.0), ball)  # 0.1 into the pair's right box
+    outside, below = compound((6.0, 3.0), ball), compound((0.0, -2.0), ball)
+    scene = bench_scene(container, pair, touching, outside, below)
+    active = np.ones(5, bool)
+    assert quality.escaped(scene, poses(scene), active) == 2  # beyond the wall at x = 5, below the floor
+    assert quality.deepest_overlap(scene, poses(scene), active) == pytest.approx(0.1)
+
+
+@pytest.fixture(scope="module")
+def compounds() -> tuple[BenchScene, object]:
+    """Box2D's compounds scene as the bench builds it (from the generator's data: no YAML to parse)."""
+    import importlib.util as util
+
+    from rustycs_cli.scene import Scene
+
+    script = Path(__file__).resolve().parents[1] / "scenes" / "bench" / "make_compounds_scene.py"
+    spec = util.spec_from_file_location("make_compounds_for_bench", script)
+    assert spec is not None and spec.loader is not None
+    module = util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    scene = Scene.model_validate(module.scene())
+    world = build_world(scene)
+    return describe(scene, world), world
+
+
+def test_the_compounds_scene_is_3000_bodies_of_two_triangles(compounds):
+    bench, world = compounds
+    ground, *bodies = bench.bodies
+    assert len(bodies) == 3000 and {b.body_type for b in bodies} == {"dynamic"} and world.shape_count == 6282
+    assert ground.kind == "compound" and [s.kind for s in ground.shapes] == ["polygon"] * 281 + ["segment"]
+    assert ground.fixed_rotation and all(s.mass == 0 for s in ground.shapes)
+    for body in bodies[:10]:
+        assert body.kind == "compound" and [s.kind for s in body.shapes] == ["polygon", "polygon"]
+        assert body.mass == pytest.approx(2.0) and [s.mass for s in body.shapes] == pytest.approx([1.0, 1.0])
+        assert [s.friction for s in body.shapes] == [0.5, 0.5] and not body.fixed_rotation
+    assert bodies[0].position == pytest.approx((-18.75, 5.575))
+    assert bodies[1].position == pytest.approx((-19.25, 7.825))
+
+
+@needs_peers
+@pytest.mark.parametrize("engine", peers.ENGINES)
+def test_peers_build_the_compounds_shape_for_shape(engine: str, compounds):
+    bench, world = compounds
+    peer = peers.build(engine, bench)
+    if engine == "pymunk":
+        shapes = len(peer.space.shapes)
+    else:
+        shapes = sum(body.shape_count for body in peer.bodies)
+    assert shapes == world.shape_count == 6282
+    masses = [body.mass for body in peer.bodies[1:]]
+    assert masses == pytest.approx([2.0] * 3000, rel=1e-6)  # two triangles of area 1, density 1
+    assert np.array(peer.poses()) == pytest.approx(poses(bench), abs=1e-4)  # Box2D: float32, y up to 340 m
 
 
 # ---------------------------------------------------------------------------------- aggregation, report
@@ -247,3 +333,27 @@ def test_recording_worker_runs_the_scene(five_body_scene: Path, compiled_engine:
     got = record(str(five_body_scene), 7)
     assert (got["scene"], got["ticks"]) == ("five", 7)
     assert got["step_seconds"] > 0 and got["seconds"] >= 0 and got["peak_memory_mb"] > 1
+
+
+def test_scene_ids_in_any_case_and_compounds_only_when_named():
+    from rustycs_cli.bench.scenes import DEFAULT_IDS, default_scene_dir, find_scenes, parse_ids
+
+    assert parse_ids(["s2,COMPOUNDS", "S2"]) == ["S2", "compounds"]
+    assert parse_ids([]) == list(DEFAULT_IDS) == ["S1", "S2", "S3", "S4", "S5", "S6"]
+    found = find_scenes(default_scene_dir(), ["compounds", "S1"])
+    assert [path.name for path in found.values()] == ["compounds.yaml", "S1_bounce.yaml"]
+    assert list(found) == ["compounds", "S1"]
+
+
+@pytest.mark.parametrize("shape, what", [
+    ("{type: capsule, length: 1, radius: 0.2}", "a capsule"),
+    ("{type: circle, radius: 0.5, sensor: true}", "a sensor"),
+    ("{type: polygon, vertices: [[0, 0], [2, 0], [1, 0.5], [1, 2]]}", "a concave or > 8-vertex polygon"),
+])
+def test_shapes_the_peers_would_build_otherwise_are_refused(shape: str, what: str):
+    text = f"name: odd\nbodies:\n  - {{name: odd, type: static, shape: {shape}, position: [0, 0]}}\n"
+    scene = load_scene_text(text, "odd.yaml").scene
+    with pytest.raises(UserError) as raised:
+        describe(scene, build_world(scene))
+    assert raised.value.messages == [f"odd: body 'odd' has {what}; the peer engines are given only circle, "
+                                     "aabb, obb, polygon and segment shapes"]

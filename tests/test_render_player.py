@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import re
 from pathlib import Path
 
@@ -149,4 +150,48 @@ def test_long_runs_are_thinned_with_a_note(cli, browser, trajectory: Path, tmp_p
     page, problems, _ = open_player(browser, out)
     assert "thinned" in page.inner_text("#note")
     assert page.evaluate("window.player.frameCount") == 16
+    assert problems == []
+
+
+@pytest.fixture(scope="module")
+def shapes_trajectory(run_scene) -> Path:
+    from conftest import EVERY_SHAPE  # every shape kind, sensors, a concave L, a capsule at 0.5 rad
+
+    return run_scene(EVERY_SHAPE)
+
+
+def test_player_draws_every_shape_kind_and_picks_bodies_by_their_shapes(cli, browser, shapes_trajectory: Path,
+                                                                         tmp_path: Path):
+    out = tmp_path / "shapes.html"
+    assert cli("render", shapes_trajectory, "-o", out).exit_code == 0
+    page, problems, _ = open_player(browser, out)
+    assert page.evaluate("window.player.bodyCount") == 5
+    rubber, plastic, metal = (MATERIAL_COLORS[m] for m in ("rubber", "plastic", "metal"))
+
+    def empty(color) -> bool:  # the background or a grid line: nothing drawn
+        return min(color) >= 220
+
+    assert canvas_rgb(page, 0.9, 2.5) == rubber and canvas_rgb(page, -0.9, 2.5) == plastic  # the cup's walls
+    sensor = canvas_rgb(page, 0.2, 2.3)  # a faint plastic disc
+    assert not empty(sensor) and sensor != plastic and sensor[1] > sensor[0] + 30
+    assert canvas_rgb(page, -2.0, 1.6) == metal and empty(canvas_rgb(page, -1.9, 2.1))  # arm, notch
+    c, s = math.cos(0.5), math.sin(0.5)
+    end = (2.5 + 0.5 * c, 1.5 + 0.5 * s)  # the centre of the capsule's end circle
+    tip = (end[0] + 0.2 * c, end[1] + 0.2 * s)
+    corner = (end[0] + 0.22 * (c - s), end[1] + 0.22 * (s + c))
+    assert canvas_rgb(page, *tip) == rubber and empty(canvas_rgb(page, *corner))  # a stadium, not a box
+
+    def picked(x: float, y: float) -> int:
+        sx, sy = page.evaluate(f"window.player.worldToScreen({x}, {y})")
+        return page.evaluate(f"window.player.bodyAt({sx}, {sy})")
+
+    assert picked(-2.0, 1.6) == 2 and picked(-1.9, 2.1) == -1  # the L, not its notch
+    assert picked(*tip) == 3 and picked(*corner) == -1
+    assert picked(1.5, 0.0) == 0 and picked(1.5, 0.3) == -1  # the ground's segment, a line
+    assert picked(-0.4, 4.0) == 4 and picked(-1.2, 4.0) == -1  # the wheel's circle, 0.3 m off its origin
+    for key in ("h", "v", "n"):
+        page.keyboard.press(key)
+    page.mouse.move(*page.evaluate("window.player.worldToScreen(-2.0, 1.6)"))
+    page.wait_for_function("window.player.state.hover === 2", timeout=5_000)
+    assert page.inner_text("#tooltip").startswith("hook  (dynamic polygon, metal)")
     assert problems == []

@@ -5,8 +5,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
-from rustycs_cli.build import build_world, material_names
+from rustycs_cli.build import build_world, material_names, shape_material_names
 from rustycs_cli.loading import load_scene_text
 from rustycs_cli.scene import PRESET_MATERIALS
 
@@ -74,3 +75,27 @@ def test_a_scene_leaving_keys_out_builds_the_engines_default_world_and_body() ->
         "stone": (2.5, 0.2, 0.4),
         "metal": (7.8, 0.1, 0.2),
     }  # the spec's presets
+
+
+def test_each_shape_is_named_by_its_own_material_or_its_bodys() -> None:
+    text = """\
+materials:
+  ice: {density: 0.9, restitution: 0.05, friction: 0.02}
+bodies:
+  - name: cup
+    position: [0, 0]
+    material: ice
+    shapes:
+      - {type: obb, width: 2, height: 0.2}
+      - {type: obb, width: 0.2, height: 2, offset: [-0.9, 0], material: rubber}
+      - {type: circle, radius: 0.5, material: {density: 1, restitution: 0, friction: 1}}
+  - {shape: {type: circle, radius: 1}, position: [5, 0], material: {density: 2, restitution: 0, friction: 1}}
+  - {shape: {type: circle, radius: 1, material: stone}, position: [9, 0]}
+"""
+    scene = load_scene_text(text, "m.yaml").scene
+    assert material_names(scene) == ["ice", "inline", "default"]
+    assert shape_material_names(scene) == ["ice", "rubber", "inline", "inline", "stone"]
+    world = build_world(scene)
+    # the shapes are made of what they name: ice 0.9 x 0.4 + rubber 0.9 x 0.4 + inline 1 x pi 0.25
+    assert world.masses[0] == pytest.approx(0.9 * 0.4 + 0.9 * 0.4 + math.pi * 0.25)
+    assert world.masses[2] == pytest.approx(math.pi * PRESET_MATERIALS["stone"].density)

@@ -30,7 +30,8 @@ DEMOS = sorted(
         *SHAPES_DEMOS,
     ]
 )
-BENCH = ["S1_bounce", "S2_pyramid20", "S3_pyramid40", "S4_rain1000", "S5_polypile500", "S6_orbits"]
+BENCH = ["S1_bounce", "S2_pyramid20", "S3_pyramid40", "S4_rain1000", "S5_polypile500", "S6_orbits",
+         "compounds"]
 
 
 def test_the_scenes_are_all_there() -> None:
@@ -143,7 +144,9 @@ def test_curved_ramp_is_a_quarter_circle_of_64_points() -> None:
     assert steps == pytest.approx([0.5 * math.pi / 63] * 63, abs=1e-6)  # evenly spread, in order
     assert floor.position[0] - floor.shape.width / 2 == 3  # the floor goes on where the ramp ends
     assert isinstance(ball.shape, Circle)
-    assert 0 < 3 - math.dist(ball.position, (3, 3)) - ball.shape.radius < 0.1  # just inside, at the top
+    assert 3 - math.dist(ball.position, (3, 3)) - ball.shape.radius == pytest.approx(0, abs=1e-6)  # on it
+    assert math.degrees(math.atan2(3 - ball.position[0], 3 - ball.position[1])) == pytest.approx(50, abs=1e-4)
+    assert ball.position[1] - ball.shape.radius == pytest.approx(1.0, abs=1e-3)  # 1 m above the bottom
 
 
 def test_capsule_pile_starts_apart_inside_its_container() -> None:
@@ -240,3 +243,47 @@ def test_bench_scenes_have_the_peers_bodies(scene_id: str) -> None:
         assert statics[0].collision_group == 1
     if scene_id == "S1":
         assert [scene.material_of(b).restitution for b in dynamic] == [0.9, 0.6, 0.4, 0.2, 0.0]
+
+
+def _compounds_script() -> Any:
+    script = ROOT / "scenes" / "bench" / "make_compounds_scene.py"
+    spec = importlib.util.spec_from_file_location("make_compounds", script)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_compounds_is_what_its_script_writes() -> None:
+    script = _compounds_script()
+    text = script.dump_scene_yaml(script.scene(), script.HEADER)
+    assert text == (ROOT / "scenes" / "bench" / "compounds.yaml").read_text()
+
+
+TRIANGLES = ([(-1, 0), (0.5, 1), (0, 2)], [(1, 0), (-0.5, 1), (0, 2)])
+
+
+def test_compounds_has_box2ds_bodies() -> None:
+    """Box2D v3's CreateCompounds: a ground of 281 boxes and a segment on one static body; 20 columns of
+    150 bodies of two triangles, side shifted +-0.25 alternately in creation order."""
+    scene = Scene.model_validate(_compounds_script().scene())  # what the file holds, without parsing it
+    ground, *bodies = scene.bodies
+    assert scene.world.tick_rate == 60 and scene.world.ticks == 500 and scene.world.precision == 4
+    assert [f.acceleration for f in scene.forces] == [(0.0, -10.0)]
+    shapes = ground.shapes or []
+    assert ground.type == "static" and [s.type for s in shapes] == ["aabb"] * 281 + ["segment"]
+    floor, walls = shapes[:81], shapes[81:281]
+    assert [s.offset for s in floor] == [(float(x), 0.0) for x in range(-40, 41)]
+    assert {(s.width, s.height) for s in floor} == {(1.1, 1.0)}
+    assert {(s.width, s.height) for s in walls} == {(1.0, 1.1)}
+    assert sorted(s.offset for s in walls) == [(float(x), float(y)) for x in (-40, 40) for y in range(1, 101)]
+    assert shapes[-1].points == [(-800.0, -80.0), (800.0, -80.0)]
+    assert scene.material_of(ground).friction == 0.6
+    assert len(bodies) == 3000 and {b.type for b in bodies} == {"dynamic"}
+    for k, body in enumerate(bodies):
+        column, row = divmod(k, 150)
+        side = 0.25 if k % 2 == 0 else -0.25
+        assert body.position == pytest.approx((2 * column - 19 + side, 2.25 * row + 0.575 + 5), abs=1e-9)
+        assert [s.vertices for s in body.shapes or ()] == [TRIANGLES[0], TRIANGLES[1]]
+        material = scene.material_of(body)
+        assert (material.density, material.friction, material.restitution) == (1.0, 0.5, 0.0)

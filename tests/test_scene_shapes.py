@@ -7,9 +7,11 @@ import math
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 from pydantic import ValidationError
 
+import rustycs
 from rustycs import defaults
 from rustycs_cli.build import build_world
 from rustycs_cli.errors import UserError
@@ -320,33 +322,28 @@ def test_both_keys_and_the_problems_inside_them_are_reported_together(tmp_path: 
     ]
 
 
-def test_what_cannot_run_yet_is_refused_with_a_message() -> None:
-    """Until the application builds, records and draws bodies made of shapes, `rustycs run` refuses
-    them by name (exit 2) rather than running them without what they ask for."""
-    scene = load_scene_text(CUP, "cup.yaml").scene
-    for index, message in [
-        (0, "body 'cup': it has several shapes"),
-        (1, "body 'capsule-1': its shape is a capsule"),
-        (3, "body 'segment-3': its shape is a segment"),
-    ]:
-        one = scene.model_copy(update={"bodies": [scene.bodies[index]]})
-        with pytest.raises(UserError, match=message):
-            build_world(one)
-    for extra, refused in [
-        ("    shape: {type: circle, radius: 1}\n    linear_damping: 0.1\n", "it sets linear_damping"),
-        (
-            "    shape: {type: circle, radius: 1, offset: [1, 0], sensor: true}\n    type: kinematic\n",
-            "it sets shape.offset, shape.sensor",
-        ),
-        (
-            "    shape: {type: polygon, vertices: [[0, 0], [2, 0], [1, 0.5], [1, 2]]}\n",
-            "its polygon is concave or has more than 8 vertices",
-        ),
-    ]:
-        with pytest.raises(UserError) as raised:
-            build_world(load_scene_text(body(extra), "b.yaml").scene)
-        assert raised.value.messages == [
-            f"body 'b': {refused}: this version of rustycs validates it but cannot run it yet"
-        ]
-    one_in_a_list = load_scene_text(body("    shapes: [{type: circle, radius: 1}]\n"), "b.yaml").scene
-    assert build_world(one_in_a_list).body_count == 1  # one shape of the old kinds: as before
+def test_bodies_made_of_shapes_are_built_as_the_engine_api_builds_them() -> None:
+    """build_world passes every shape (kind, geometry, offset, angle, material resolved like a body's,
+    sensor) and every body key to the engine: its tables equal those of a World built by hand."""
+    built = build_world(load_scene_text(CUP, "cup.yaml").scene)
+    rubber = rustycs.MATERIALS["rubber"]
+    by_hand = rustycs.World()
+    by_hand.add_body(
+        [rustycs.Box(2.0, 0.2, offset=(0, -0.9)), rustycs.Box(0.2, 2.0, offset=(-0.9, 0), angle=0.1),
+         rustycs.Box(0.2, 2.0, offset=(0.9, 0), material=rubber), rustycs.Circle(0.5, sensor=True)],
+        position=(0, 2), linear_damping=0.5, angular_damping=0.25, gravity_scale=-2,
+        fixed_rotation=True, bullet=True, collision_category=6, collision_mask=3)
+    by_hand.add_body(rustycs.Capsule(1, 0.2, offset=(1, 0), material=rustycs.Material(3, 0, 1)))
+    by_hand.add_body(rustycs.Chain([(0, 0), (1, 0), (2, 1)], loop=True), body_type="static")
+    by_hand.add_body(rustycs.Segment([(0, 0), (1, 0)]), body_type="kinematic")
+    by_hand.add_body([rustycs.Circle(1), rustycs.Circle(1, offset=(2, 0))], position=(5, 0))
+    assert built.shapes == by_hand.shapes and built.shape_count == 9
+    for table in ("_bodies", "_shapes"):
+        ours, theirs = getattr(built, table).view(), getattr(by_hand, table).view()
+        for name in ours._fields:
+            np.testing.assert_array_equal(getattr(ours, name), getattr(theirs, name), err_msg=name)
+    assert list(built.shape_kinds) == ["compound", "capsule", "chain", "segment", "compound"]
+    # the cup's sensor adds no mass: boxes of 0.4 m^2, two of the default density 0.1, one of rubber's 0.9
+    assert built.masses[0] == pytest.approx(0.4 * (0.1 + 0.1 + 0.9)) and math.isinf(built.inertias[0])
+    assert built.masses[1] == pytest.approx(3 * (0.2 * 2 * 1 + math.pi * 0.2**2))  # the inline density 3
+    np.testing.assert_allclose(built.local_centers[1], [1, 0])  # the capsule's offset

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import h5py
@@ -9,6 +10,7 @@ import numpy as np
 import pytest
 
 from rustycs_cli.errors import UserError
+from rustycs_cli.shape_table import read_shapes, shape_table, write_shapes
 from rustycs_cli.summary import SummaryTracker
 from rustycs_cli.trajectory import (
     BLOCK_FRAMES,
@@ -25,8 +27,12 @@ OBSERVABLE_SHAPES = {"kinetic_energy": (), "potential_energy": (), "linear_momen
                      "angular_momentum": (), "contact_count": (), "max_penetration": ()}
 
 
+L_HOOK = [(0, 0), (1, 0), (1, 0.25), (0.25, 0.25), (0.25, 1), (0, 1)]  # concave: split into pieces
+
+
 def make_world():
-    """Every shape and body type, a global and a local attractor, bounds, gravity; bodies in contact."""
+    """Every shape kind and body type, bodies of several shapes (with their own material, a sensor, a
+    closed chain), a global and a local attractor, bounds, gravity; bodies in contact."""
     import rustycs
 
     world = rustycs.World(tick_rate=120.0, precision=6, bounds=((-20.0, -20.0), (20.0, 20.0)))
@@ -40,12 +46,31 @@ def make_world():
     world.add_body(rustycs.Polygon([(0.0, 0.0), (0.6, 0.0), (0.0, 0.6)]), position=(1.5, -0.01))
     world.add_body(rustycs.Box(1.0, 0.2, rotates=False), position=(0.0, 4.0), body_type="kinematic",
                    velocity=(1.0, 0.0))
+    cup = [rustycs.Box(2.0, 0.2, offset=(0, -0.9)), rustycs.Box(0.2, 2.0, offset=(-0.9, 0), angle=0.1),
+           rustycs.Box(0.2, 2.0, offset=(0.9, 0), material="rubber"), rustycs.Circle(0.5, sensor=True)]
+    world.add_body(cup, position=(10.0, 5.0), material="plastic")
+    world.add_body([rustycs.Chain([(0, 0), (2, 0), (1, 1)], loop=True), rustycs.Segment([(0, -1), (3, -1)])],
+                   position=(-10.0, 5.0), body_type="static")
+    world.add_body(rustycs.Polygon(L_HOOK, offset=(0.5, 0.0), angle=0.25), position=(-10.0, 10.0),
+                   material="metal")
+    world.add_body(rustycs.Capsule(1.0, 0.2), position=(10.0, 10.0), angle=0.5)
     return world
 
 
-NAMES = ["floor", "ball", "crate", "wedge", "slider"]
-MATERIALS = ["stone", "rubber", "default", "default", "default"]
-GROUPS = [0, 3, 0, 0, 0]
+NAMES = ["floor", "ball", "crate", "wedge", "slider", "cup", "track", "hook", "pill"]
+MATERIALS = ["stone", "rubber", "default", "default", "default", "plastic", "default", "metal", "default"]
+SHAPE_MATERIALS = ["stone", "rubber", "default", "default", "default", "plastic", "plastic", "rubber",
+                   "plastic", "default", "default", "metal", "default"]
+GROUPS = [0, 3, 0, 0, 0, 0, 0, 0, 0]
+N = len(NAMES)
+
+
+def writer(path: Path, world, *, contacts: bool = False, compress: bool = False) -> TrajectoryWriter:
+    """The writer of make_world()'s runs."""
+    return TrajectoryWriter(path, world, names=NAMES, materials=MATERIALS, shape_materials=SHAPE_MATERIALS,
+                            collision_groups=GROUPS, attractor_names=["well", "far"], author="tester",
+                            scene_text="name: t\n", contacts=contacts, compress=compress,
+                            overrides=("world.precision=6", "bodies.ball.material=rubber"))
 
 
 def write_run(path: Path, contacts: bool = True, compress: bool = False, frames: int = FRAMES):
@@ -53,22 +78,19 @@ def write_run(path: Path, contacts: bool = True, compress: bool = False, frames:
     world = make_world()
     tracker = SummaryTracker(list(world.body_types))
     captured = []
-    with TrajectoryWriter(path, world, names=NAMES, materials=MATERIALS, collision_groups=GROUPS,
-                          attractor_names=["well", "far"], author="tester", scene_text="name: t\n",
-                          overrides=("world.precision=6", "bodies.ball.material=rubber"),
-                          contacts=contacts, compress=compress) as writer:
+    with writer(path, world, contacts=contacts, compress=compress) as out:
         for index in range(frames):
             if index:
                 world.step(1)
             frame = Frame.capture(world, contacts)
-            writer.append(frame)
+            out.append(frame)
             tracker.add(frame)
             captured.append(frame)
         summary = tracker.summary(scene="t", scene_sha256="0" * 64, status="complete", seed=0, dt=world.dt,
                                   wall_seconds=1.0, step_seconds=0.5)
-        writer.finish({"scene_sha256": "0" * 64, "seed": 0, "rustycs_version": package_version(),
-                       "status": "complete", "ticks_completed": frames - 1, "dt": world.dt,
-                       "tick_rate": 120.0, "precision": 6, "wall_seconds": 1.0, "step_seconds": 0.5}, summary)
+        out.finish({"scene_sha256": "0" * 64, "seed": 0, "rustycs_version": package_version(),
+                    "status": "complete", "ticks_completed": frames - 1, "dt": world.dt,
+                    "tick_rate": 120.0, "precision": 6, "wall_seconds": 1.0, "step_seconds": 0.5}, summary)
     return captured, summary
 
 
@@ -143,23 +165,127 @@ def test_body_tables(written):
     with h5py.File(path, "r") as f:
         bodies = f["particles/bodies"]
         assert_str_dataset(bodies["name"], NAMES)
-        assert_str_dataset(bodies["type"], ["static", "dynamic", "dynamic", "dynamic", "kinematic"])
-        assert_str_dataset(bodies["shape"], ["aabb", "circle", "obb", "polygon", "aabb"])
+        assert_str_dataset(bodies["type"], ["static", "dynamic", "dynamic", "dynamic", "kinematic", "dynamic",
+                                            "static", "dynamic", "dynamic"])
+        assert_str_dataset(bodies["shape"], ["aabb", "circle", "obb", "polygon", "aabb", "compound",
+                                             "compound", "polygon", "capsule"])
         assert_str_dataset(bodies["material"], MATERIALS)
         mass, inertia = bodies["mass"][()], bodies["inertia"][()]
-        assert bodies["mass"].dtype == np.float64 and mass.shape == (5,)
-        assert np.isinf(mass[[0, 4]]).all() and np.isfinite(mass[1:4]).all()
+        assert bodies["mass"].dtype == np.float64 and mass.shape == (N,)
+        assert np.isinf(mass[[0, 4, 6]]).all() and np.isfinite(mass[[1, 2, 3, 5, 7, 8]]).all()
         assert mass[1] == pytest.approx(np.pi * 0.25**2 * 0.9)  # rubber
-        assert np.isinf(inertia[[0, 4]]).all() and np.isfinite(inertia[1:4]).all()
+        assert mass[5] == pytest.approx(0.4 * (1.2 + 1.2 + 0.9))  # plastic boxes and a rubber one, no sensor
+        assert np.isinf(inertia[[0, 4, 6]]).all() and np.isfinite(inertia[[1, 2, 3, 5, 7, 8]]).all()
         assert inertia[2] == pytest.approx(mass[2] * (0.5**2 + 0.5**2) / 12)
-        # additions for the renderer
-        np.testing.assert_array_equal(bodies["radius"][()], [0, 0.25, 0, 0, 0])
-        np.testing.assert_array_equal(bodies["vertex_count"][()], [4, 0, 4, 3, 4])
-        vertices = bodies["vertices"][()]
-        assert vertices.shape == (5, 8, 2)
-        assert sorted(map(tuple, vertices[3, :3])) == [(0.0, 0.0), (0.0, 0.6), (0.6, 0.0)]
-        assert np.abs(vertices[2, :4]).max() == 0.25 and not vertices[2, 4:].any()
+        spawn = bodies["spawn_tick"]
+        assert spawn.dtype == np.int64 and spawn.shape == (N,) and not spawn[()].any()
+        # additions
+        center = bodies["local_center"]
+        assert center.dtype == np.float64 and center.shape == (N, 2) and center.attrs["unit"] == "m"
+        np.testing.assert_allclose(center[3], [0.2, 0.2])  # the wedge's centroid
+        np.testing.assert_allclose(center[8], [0, 0], atol=1e-15)
+        assert center[5, 1] < -0.3  # the cup's bottom is heavier than its open top
         np.testing.assert_array_equal(bodies["collision_group"][()], GROUPS)
+        assert "radius" not in bodies and "vertices" not in bodies  # per body: replaced by /shapes
+
+
+SHAPE_TYPES = ["aabb", "circle", "obb", "polygon", "aabb", "obb", "obb", "obb", "circle", "chain", "segment",
+               "polygon", "capsule"]
+
+
+def test_shapes_group_per_the_spec(written):
+    """/shapes: one row per shape as given (a concave polygon is one row), dtypes and padding as the
+    spec says, and our `loop`."""
+    path, _, _ = written
+    s = len(SHAPE_TYPES)
+    with h5py.File(path, "r") as f:
+        shapes = f["shapes"]
+        for name, dtype, shape in (("body", np.int32, (s,)), ("offset", np.float64, (s, 2)),
+                                   ("angle", np.float64, (s,)), ("radius", np.float64, (s,)),
+                                   ("length", np.float64, (s,)), ("vertex_count", np.int32, (s,)),
+                                   ("vertices", np.float64, (s, 6, 2)), ("sensor", np.bool_, (s,)),
+                                   ("loop", np.bool_, (s,))):
+            assert shapes[name].dtype == dtype and shapes[name].shape == shape, name
+        assert_str_dataset(shapes["type"], SHAPE_TYPES)
+        assert_str_dataset(shapes["material"], SHAPE_MATERIALS)
+        np.testing.assert_array_equal(shapes["body"][()], [0, 1, 2, 3, 4, 5, 5, 5, 5, 6, 6, 7, 8])
+        np.testing.assert_array_equal(shapes["vertex_count"][()], [4, 0, 4, 3, 4, 4, 4, 4, 0, 3, 2, 6, 0])
+        np.testing.assert_array_equal(shapes["radius"][()], [0, 0.25] + [0] * 6 + [0.5, 0, 0, 0, 0.2])
+        np.testing.assert_array_equal(shapes["length"][()], [0] * 12 + [1.0])
+        np.testing.assert_array_equal(shapes["offset"][5:9], [[0, -0.9], [-0.9, 0], [0.9, 0], [0, 0]])
+        np.testing.assert_array_equal(shapes["offset"][11], [0.5, 0])
+        np.testing.assert_array_equal(shapes["angle"][()], [0] * 6 + [0.1] + [0] * 4 + [0.25, 0])
+        np.testing.assert_array_equal(shapes["sensor"][()], [False] * 8 + [True] + [False] * 4)
+        np.testing.assert_array_equal(shapes["loop"][()], [False] * 9 + [True] + [False] * 3)
+        vertices = shapes["vertices"][()]
+        np.testing.assert_array_equal(vertices[11], L_HOOK)  # as written, in the shape's frame
+        np.testing.assert_array_equal(vertices[0, :4], [[-5, -0.25], [5, -0.25], [5, 0.25], [-5, 0.25]])
+        np.testing.assert_array_equal(vertices[9, :3], [[0, 0], [2, 0], [1, 1]])
+        assert not vertices[9, 3:].any() and not vertices[1].any()  # zero-padded
+        for name, unit in (("offset", "m"), ("angle", "rad"), ("radius", "m"), ("length", "m"),
+                           ("vertices", "m")):
+            assert shapes[name].attrs["unit"] == unit
+
+
+def test_joints_and_events_exist_with_zero_rows(written):
+    path, captured, _ = written
+    t = len(captured)
+    with h5py.File(path, "r") as f:
+        joints, events = f["joints"], f["events"]
+        for name in ("name", "type"):
+            assert h5py.check_string_dtype(joints[name].dtype) and joints[name].shape == (0,), name
+        for name in ("body_a", "body_b"):
+            assert joints[name].dtype == np.int32 and joints[name].shape == (0,), name
+        for name, dtype, shape in (("reaction_force", np.float64, (t, 0, 2)),
+                                   ("reaction_torque", np.float64, (t, 0)), ("active", np.bool_, (t, 0))):
+            group = joints[name]
+            assert group["value"].dtype == dtype and group["value"].shape == shape, name
+            for key in ("step", "time"):
+                assert group[key] == f["particles/bodies/position"][key]
+        for name, dtype, shape in (("tick", np.int64, (0,)), ("time", np.float64, (0,)),
+                                   ("body_a", np.int32, (0,)), ("body_b", np.int32, (0,)),
+                                   ("point", np.float64, (0, 2)), ("speed", np.float64, (0,))):
+            assert events[name].dtype == dtype and events[name].shape == shape, name
+        assert h5py.check_string_dtype(events["kind"].dtype) and events["kind"].shape == (0,)
+
+
+def test_the_shape_table_reads_back_as_written(tmp_path: Path):
+    world = make_world()
+    path = tmp_path / "shapes.h5"
+    with writer(path, world) as out:
+        out.append(Frame.capture(world, False))
+        out.finish({"status": "complete"}, {"status": "complete"})
+    expected = shape_table(world, SHAPE_MATERIALS)
+    with h5py.File(path, "r") as f:
+        got = read_shapes(f)
+    assert got.type == expected.type == SHAPE_TYPES and got.material == expected.material
+    for name in ("body", "offset", "angle", "radius", "length", "loop", "sensor", "vertex_count"):
+        np.testing.assert_array_equal(getattr(got, name), getattr(expected, name), err_msg=name)
+    assert all(np.array_equal(a, b) for a, b in zip(got.points, expected.points, strict=True))
+
+
+def test_a_long_chain_pads_every_row_but_stores_only_its_own_chunks(tmp_path: Path):
+    """One 4096-point chain among 300 triangles: V = 4096, but the padding of the triangles' rows is not
+    written (chunks never written read as 0), so the file stays small; every row reads back."""
+    import rustycs
+
+    world = rustycs.World()
+    chain = [(0.01 * k, math.sin(0.01 * k)) for k in range(4096)]
+    world.add_body(rustycs.Chain(chain), body_type="static")
+    for k in range(300):
+        world.add_body(rustycs.Polygon([(0, 0), (1, 0), (0, 1 + k / 300)]), position=(2 * k, 5))
+    shapes = shape_table(world, ["default"] * 301)
+    path = tmp_path / "long.h5"
+    with h5py.File(path, "w") as f:
+        write_shapes(f, shapes)
+    padded = 301 * 4096 * 2 * 8
+    assert path.stat().st_size < padded / 20
+    with h5py.File(path, "r") as f:
+        assert f["shapes/vertices"].shape == (301, 4096, 2)
+        assert not f["shapes/vertices"][1:, 3:].any()
+        got = read_shapes(f)
+    np.testing.assert_array_equal(got.points[0], chain)
+    np.testing.assert_array_equal(got.points[300], [(0, 0), (1, 0), (0, 1 + 299 / 300)])
 
 
 def test_world_additions(written):
@@ -227,7 +353,7 @@ def test_chunked_along_time_uncompressed(written):
     with h5py.File(path, "r") as f:
         value = f["particles/bodies/position/value"]
         assert value.maxshape[0] is None
-        assert 8 <= value.chunks[0] <= 64 and value.chunks[1:] == (5, 2)
+        assert 8 <= value.chunks[0] <= 64 and value.chunks[1:] == (N, 2)
         assert value.compression is None
 
 
@@ -237,33 +363,28 @@ def test_compress_option(tmp_path: Path):
     with h5py.File(path, "r") as f:
         value = f["particles/bodies/velocity/value"]
         assert value.compression == "gzip" and value.shuffle
-        assert value.shape == (3, 5, 2)
+        assert value.shape == (3, N, 2)
         assert "contacts" not in f
 
 
 def test_written_under_a_temporary_name(tmp_path: Path):
     path = tmp_path / "run.h5"
     world = make_world()
-    writer = TrajectoryWriter(path, world, names=NAMES, materials=MATERIALS, collision_groups=GROUPS,
-                              attractor_names=["well", "far"], author="x", scene_text="", overrides=(),
-                              contacts=False, compress=False)
-    writer.append(Frame.capture(world, False))
+    out = writer(path, world)
+    out.append(Frame.capture(world, False))
     assert temporary_path(path).exists() and not path.exists()
     assert temporary_path(path).parent == tmp_path and temporary_path(path).name.startswith(".run.h5.tmp-")
-    writer.finish({"status": "complete"}, {"status": "complete"})
+    out.finish({"status": "complete"}, {"status": "complete"})
     assert path.exists() and not temporary_path(path).exists()
     with open_trajectory(path) as f:
-        assert f["particles/bodies/position/value"].shape == (1, 5, 2)
+        assert f["particles/bodies/position/value"].shape == (1, N, 2)
 
 
 def test_exception_inside_the_writer_leaves_no_file(tmp_path: Path):
     path = tmp_path / "run.h5"
     world = make_world()
-    with pytest.raises(RuntimeError), TrajectoryWriter(
-            path, world, names=NAMES, materials=MATERIALS, collision_groups=GROUPS,
-            attractor_names=["well", "far"], author="x", scene_text="", overrides=(), contacts=False,
-            compress=False) as writer:
-        writer.append(Frame.capture(world, False))
+    with pytest.raises(RuntimeError), writer(path, world) as out:
+        out.append(Frame.capture(world, False))
         raise RuntimeError("boom")
     assert list(tmp_path.iterdir()) == []
 
@@ -309,26 +430,23 @@ def test_blocks_of_frames_are_written_and_summarised_as_frames_one_by_one(tmp_pa
     one_by_one, summary = write_run(tmp_path / "frames.h5", contacts=False, frames=frames)
     world = make_world()
     tracker = SummaryTracker(list(world.body_types))
-    with TrajectoryWriter(tmp_path / "blocks.h5", world, names=NAMES, materials=MATERIALS,
-                          collision_groups=GROUPS, attractor_names=["well", "far"], author="tester",
-                          scene_text="name: t\n", contacts=False, compress=False,
-                          overrides=("world.precision=6", "bodies.ball.material=rubber")) as writer:
+    with writer(tmp_path / "blocks.h5", world) as out:
         buffer = world.frame_buffer(64)
         world.capture(buffer)
-        writer.append_block(buffer, 1)
+        out.append_block(buffer, 1)
         tracker.add_block(buffer, 1)
         for count in (37, 64, 64, 64, 64, 6):
             recorded = world.step(count, record=buffer, every=1)
-            writer.append_block(buffer, recorded)
+            out.append_block(buffer, recorded)
             tracker.add_block(buffer, recorded)
         blocks = tracker.summary(scene="t", scene_sha256="0" * 64, status="complete", seed=0, dt=world.dt,
                                  wall_seconds=1.0, step_seconds=0.5)
-        writer.finish({"status": "complete"}, blocks)
+        out.finish({"status": "complete"}, blocks)
     assert blocks == summary
     with h5py.File(tmp_path / "frames.h5") as a, h5py.File(tmp_path / "blocks.h5") as b:
         names = []
         a.visititems(lambda name, item: names.append(name) if isinstance(item, h5py.Dataset) else None)
-        series = [name for name in names if name.startswith(("particles/", "observables/"))]
+        series = [name for name in names if name.startswith(("particles/", "observables/", "joints/"))]
         assert len(series) > 20
         for name in series:
             assert np.array_equal(a[name][()], b[name][()]), name

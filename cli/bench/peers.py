@@ -1,4 +1,5 @@
-"""The peer engines, pymunk 7 and Box2D v3 (pyb2d3), building the bodies of a BenchScene.
+"""The peer engines, pymunk 7 and Box2D v3 (pyb2d3), building the bodies of a BenchScene, each of its
+shapes (circles, polygons, segments) on one peer body.
 
 Settings follow the peer harness (../shared/bench/peers), so that our numbers can be put next to its:
 pymunk: 10 iterations, collision_slop 0.005 m, no sleeping, no damping; pyb2d3: 4 substeps, sleeping
@@ -21,7 +22,7 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from .spec import BenchScene, BodySpec
+from .spec import BenchScene, BodySpec, ShapeSpec
 
 PYMUNK_ITERATIONS = 10
 PYMUNK_COLLISION_SLOP = 0.005
@@ -54,10 +55,11 @@ def _group_number(group: int) -> int:
     return 2 * abs(group) - (group < 0)
 
 
-def _world_vertices(spec: BodySpec) -> list[tuple[float, float]]:
+def _world_points(spec: BodySpec, shape: ShapeSpec) -> list[tuple[float, float]]:
+    """A shape's points placed by its body's pose (the peers' static shapes are in world coordinates)."""
     c, s = math.cos(spec.angle), math.sin(spec.angle)
     x, y = spec.position
-    return [(x + c * vx - s * vy, y + s * vx + c * vy) for vx, vy in spec.vertices]
+    return [(x + c * vx - s * vy, y + s * vx + c * vy) for vx, vy in shape.points]
 
 
 def _central_force(bodies: list[tuple[Any, float]], attractor: tuple[float, float, float],
@@ -120,14 +122,10 @@ class PymunkWorld:
         static = spec.body_type == "static"
         if static:  # like the harness: shapes on the space's static body, in world coordinates
             body = self.space.static_body
-            if spec.kind == "circle":
-                shape = pymunk.Circle(body, spec.radius, offset=spec.position)
-            else:
-                shape = pymunk.Poly(body, _world_vertices(spec))
         else:
             if spec.body_type == "kinematic":
                 body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
-            elif spec.kind == "aabb":  # rotation locked; a box is centred on its origin
+            elif spec.fixed_rotation:  # rotation locked (an aabb is centred on its origin)
                 body = pymunk.Body(spec.mass, math.inf)
             else:
                 body = pymunk.Body()
@@ -135,17 +133,25 @@ class PymunkWorld:
             body.angle = spec.angle
             body.velocity = spec.velocity
             body.angular_velocity = spec.angular_velocity
-            shape = (pymunk.Circle(body, spec.radius) if spec.kind == "circle"
-                     else pymunk.Poly(body, list(spec.vertices), radius=0.0))
-            if spec.body_type == "dynamic" and spec.kind != "aabb":
-                shape.mass = spec.mass  # centre of gravity and moment follow from the shape
-        shape.friction = math.sqrt(spec.friction)
-        shape.elasticity = 1.0 if static else spec.restitution
-        shape.filter = pymunk.ShapeFilter(group=_group_number(spec.group))  # 0: no group
+        shapes = []
+        for part in spec.shapes:
+            points = _world_points(spec, part) if static else list(part.points)
+            if part.kind == "circle":
+                shape = pymunk.Circle(body, part.radius, offset=points[0])
+            elif part.kind == "segment":
+                shape = pymunk.Segment(body, points[0], points[1], 0.0)
+            else:
+                shape = pymunk.Poly(body, points, radius=0.0)
+            if spec.body_type == "dynamic" and not spec.fixed_rotation and part.mass > 0:
+                shape.mass = part.mass  # centre of gravity and moment follow from the shapes
+            shape.friction = math.sqrt(part.friction)
+            shape.elasticity = 1.0 if static else part.restitution
+            shape.filter = pymunk.ShapeFilter(group=_group_number(spec.group))  # 0: no group
+            shapes.append(shape)
         if static:
-            self.space.add(shape)
+            self.space.add(*shapes)
         else:
-            self.space.add(body, shape)
+            self.space.add(body, *shapes)
         return body
 
     def poses(self) -> list[tuple[float, float, float]]:
@@ -181,16 +187,19 @@ class Box2DWorld:
         body = self.world.create_body(b2.body_def(
             type=kinds[spec.body_type], position=spec.position, rotation=b2.Rot(spec.angle),
             linear_velocity=spec.velocity, angular_velocity=spec.angular_velocity, enable_sleep=False,
-            fixed_rotation=spec.kind == "aabb"))
-        density = spec.mass / spec.area if spec.body_type == "dynamic" else 0.0
-        shape = b2.shape_def(density=density, material=b2.surface_material(
-            friction=spec.friction, restitution=spec.restitution))
-        if spec.group:
-            shape.filter = b2.make_filter(group_index=-_group_number(spec.group))
-        if spec.kind == "circle":
-            body.create_circle_shape(shape, b2.circle(radius=spec.radius))
-        else:
-            body.create_polygon_shape(shape, b2.polygon(points=list(spec.vertices)))
+            fixed_rotation=spec.fixed_rotation))
+        for part in spec.shapes:
+            density = part.mass / part.area if part.mass > 0 else 0.0
+            shape = b2.shape_def(density=density, material=b2.surface_material(
+                friction=part.friction, restitution=part.restitution))
+            if spec.group:
+                shape.filter = b2.make_filter(group_index=-_group_number(spec.group))
+            if part.kind == "circle":
+                body.create_circle_shape(shape, b2.circle(center=part.points[0], radius=part.radius))
+            elif part.kind == "segment":
+                body.create_segment_shape(shape, b2.segment(*part.points))
+            else:
+                body.create_polygon_shape(shape, b2.polygon(points=list(part.points)))
         return body
 
     def poses(self) -> list[tuple[float, float, float]]:

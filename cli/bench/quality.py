@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from .spec import BenchScene, BodySpec
+from .spec import BenchScene, BodySpec, ShapeSpec
 
 # Which measures each scene reports (scaling scenes are circles in a container).
 METRICS: dict[str, tuple[str, ...]] = {
@@ -22,6 +22,7 @@ METRICS: dict[str, tuple[str, ...]] = {
     "S4": ("max_overlap", "escaped"),
     "S5": ("max_overlap", "escaped"),
     "S6": ("mean_radius_drift", "max_radius_drift"),
+    "compounds": ("max_overlap", "escaped"),
     "scaling": ("max_overlap", "escaped"),
 }
 
@@ -57,9 +58,11 @@ def radius_drift(scene: BenchScene, start: np.ndarray, end: np.ndarray) -> np.nd
 
 
 def escaped(scene: BenchScene, poses: np.ndarray, active: np.ndarray) -> int:
-    """Dynamic bodies whose origin left the container: below the middle of the lowest static body, or
-    (with statics side by side) beyond the middle of the outermost one; deactivated bodies count too."""
-    statics = np.array([b.position for b in scene.bodies if b.body_type == "static"]).reshape(-1, 2)
+    """Dynamic bodies whose origin left the container: below the middle of the lowest static shape with
+    area, or (with such shapes side by side) beyond the middle of the outermost one; deactivated bodies
+    count too. (Lines are not walls: a segment far below catches what escaped.)"""
+    statics = np.array([_centre(body, shape) for body in scene.bodies if body.body_type == "static"
+                        for shape in body.shapes if shape.kind != "segment"]).reshape(-1, 2)
     moving = np.array([b.body_type == "dynamic" for b in scene.bodies], dtype=bool)
     out = ~active
     if len(statics):
@@ -70,43 +73,58 @@ def escaped(scene: BenchScene, poses: np.ndarray, active: np.ndarray) -> int:
     return int((out & moving).sum())
 
 
+def _centre(body: BodySpec, shape: ShapeSpec) -> np.ndarray:
+    """A shape's centroid in the world, at its body's initial pose."""
+    return _place(np.array([shape.centre]), np.array([*body.position, body.angle]))[0]
+
+
+def _place(points: np.ndarray, pose: np.ndarray) -> np.ndarray:
+    """Body-frame points [k, 2] in the world at pose (x, y, angle)."""
+    x, y, angle = pose
+    c, s = math.cos(angle), math.sin(angle)
+    return points @ np.array([[c, s], [-s, c]]) + (x, y)
+
+
 def deepest_overlap(scene: BenchScene, poses: np.ndarray, active: np.ndarray) -> float:
-    """The largest penetration depth between two shapes that may collide, m (0 when none overlap)."""
+    """The largest penetration depth between two shapes of bodies that may collide, m (0 when none
+    overlap)."""
     specs = scene.bodies
     poses = poses.copy()
     for i, spec in enumerate(specs):  # statics do not move (and some engines share one static body)
         if spec.body_type == "static":
             poses[i] = (*spec.position, spec.angle)
-    shapes = [_world_shape(spec, poses[i]) for i, spec in enumerate(specs)]
-    lo = np.array([s[0] for s in shapes])
-    hi = np.array([s[1] for s in shapes])
+    owner = np.array([i for i, spec in enumerate(specs) for _ in spec.shapes], dtype=np.int64)
+    shapes = [_world_shape(shape, poses[i]) for i, spec in enumerate(specs) for shape in spec.shapes]
+    lo = np.array([s[0] for s in shapes]).reshape(-1, 2)
+    hi = np.array([s[1] for s in shapes]).reshape(-1, 2)
     a, b = _overlapping_boxes(lo, hi)
-    groups = np.array([s.group for s in specs])
-    moving = np.array([s.body_type != "static" for s in specs])
-    keep = active[a] & active[b] & (moving[a] | moving[b]) & ~((groups[a] == groups[b]) & (groups[a] != 0))
+    groups = np.array([s.group for s in specs])[owner]
+    moving = np.array([s.body_type != "static" for s in specs])[owner]
+    alive = active[owner]
+    keep = ((owner[a] != owner[b]) & alive[a] & alive[b] & (moving[a] | moving[b])
+            & ~((groups[a] == groups[b]) & (groups[a] != 0)))
     a, b = a[keep], b[keep]
-    radius = np.array([s.radius if s.kind == "circle" else -1.0 for s in specs])
+    radius = np.array([s[2][2] if s[2][0] == "circle" else -1.0 for s in shapes])
     both_circles = (radius[a] > 0) & (radius[b] > 0)
     worst = 0.0
     if both_circles.any():
         ca, cb = a[both_circles], b[both_circles]
-        d = np.hypot(*(poses[ca, :2] - poses[cb, :2]).T)
+        centres = np.array([s[2][1] if s[2][0] == "circle" else (np.nan, np.nan) for s in shapes])
+        d = np.hypot(*(centres[ca] - centres[cb]).T)
         worst = max(worst, float((radius[ca] + radius[cb] - d).max()))
     for i, j in zip(a[~both_circles], b[~both_circles], strict=True):
         worst = max(worst, _sat_depth(shapes[i][2], shapes[j][2]))
     return max(worst, 0.0)
 
 
-def _world_shape(spec: BodySpec, pose: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple]:
-    """(box min, box max, geometry): geometry is ("circle", centre, r) or ("poly", world vertices)."""
-    x, y, angle = pose
-    if spec.kind == "circle":
-        centre = np.array([x, y])
-        return centre - spec.radius, centre + spec.radius, ("circle", centre, spec.radius)
-    c, s = math.cos(angle), math.sin(angle)
-    local = np.array(spec.vertices)
-    verts = local @ np.array([[c, s], [-s, c]]) + (x, y)
-    return verts.min(axis=0), verts.max(axis=0), ("poly", verts)
+def _world_shape(shape: ShapeSpec, pose: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple]:
+    """(box min, box max, geometry): geometry is ("circle", centre, r) or ("poly", world vertices), a
+    segment being a polygon of two vertices."""
+    points = _place(np.array(shape.points), pose)
+    if shape.kind == "circle":
+        centre = points[0]
+        return centre - shape.radius, centre + shape.radius, ("circle", centre, shape.radius)
+    return points.min(axis=0), points.max(axis=0), ("poly", points)
 
 
 def _overlapping_boxes(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

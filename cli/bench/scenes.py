@@ -1,4 +1,5 @@
-"""Which scenes the benchmark runs: S1..S6 from scenes/bench/, and the generated scaling series."""
+"""Which scenes the benchmark runs: S1..S6 and compounds from scenes/bench/, and the generated scaling
+series."""
 
 from __future__ import annotations
 
@@ -7,7 +8,11 @@ from pathlib import Path
 
 from ..errors import UserError
 
-SCENE_IDS = ("S1", "S2", "S3", "S4", "S5", "S6")
+DEFAULT_IDS = ("S1", "S2", "S3", "S4", "S5", "S6")  # run when no scene is named
+SCENE_FILES = {  # id: the file pattern in the bench folder
+    **{scene_id: f"{scene_id}_*.yaml" for scene_id in DEFAULT_IDS},
+    "compounds": "compounds.yaml",  # Box2D v3's compounds: 3000 bodies of two triangles, only when named
+}
 SCALING_SIZES = (1000, 4000, 16000)
 SCALING_TICKS = 300
 SCALING_PREFIX = "scaling:"
@@ -25,15 +30,16 @@ def default_scene_dir() -> Path:
 
 
 def find_scenes(directory: Path, ids: list[str]) -> dict[str, Path]:
-    """The scene file of each id (`S4` -> `S4_*.yaml`), in the order given."""
+    """The scene file of each id (`S4` -> `S4_*.yaml`, `compounds` -> `compounds.yaml`), in the order
+    given."""
     found, problems = {}, []
     for scene_id in ids:
-        if scene_id not in SCENE_IDS:
-            problems.append(f"unknown bench scene {scene_id!r}: choose from {', '.join(SCENE_IDS)}")
+        if scene_id not in SCENE_FILES:
+            problems.append(f"unknown bench scene {scene_id!r}: choose from {', '.join(SCENE_FILES)}")
             continue
-        matches = sorted(directory.glob(f"{scene_id}_*.yaml"))
+        matches = sorted(directory.glob(SCENE_FILES[scene_id]))
         if len(matches) != 1:
-            problems.append(f"{directory}: expected one {scene_id}_*.yaml, found {len(matches)}")
+            problems.append(f"{directory}: expected one {SCENE_FILES[scene_id]}, found {len(matches)}")
         else:
             found[scene_id] = matches[0]
     if problems:
@@ -42,9 +48,10 @@ def find_scenes(directory: Path, ids: list[str]) -> dict[str, Path]:
 
 
 def parse_ids(values: list[str]) -> list[str]:
-    """Scene ids from `S1 S4`, `S1,S4` or lowercase; all scenes when none are given."""
-    ids = [part.strip().upper() for value in values for part in value.split(",") if part.strip()]
-    return list(dict.fromkeys(ids)) or list(SCENE_IDS)
+    """Scene ids from `S1 S4`, `S1,S4`, `compounds` or any case; S1..S6 when none are given."""
+    names = {scene_id.lower(): scene_id for scene_id in SCENE_FILES}
+    ids = [part.strip() for value in values for part in value.split(",") if part.strip()]
+    return list(dict.fromkeys(names.get(scene_id.lower(), scene_id) for scene_id in ids)) or list(DEFAULT_IDS)
 
 
 def scaling_ref(count: int) -> str:

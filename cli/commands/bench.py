@@ -15,8 +15,9 @@ def command(
     ids: list[str] = typer.Argument(None, metavar="SCENE_ID", show_default=False,
                                     help="Scene ids to run, like --scenes."),
     scenes: list[str] = typer.Option([], "--scenes", metavar="ID", show_default=False,
-                                     help="Scenes to run: S1 .. S6 (repeatable, or comma-separated; "
-                                     "default: all)."),
+                                     help="Scenes to run: S1 .. S6, compounds (repeatable, or "
+                                     "comma-separated; default: S1 .. S6; compounds, Box2D v3's 3000 "
+                                     "bodies of two triangles, runs only when named: it takes minutes)."),
     peers: bool = typer.Option(False, "--peers", help="Also step the same bodies in pymunk and Box2D v3 "
                                "(pyb2d3), from the `bench` extra: pip install 'rustycs\\[bench]'."),
     reps: int = typer.Option(3, "--reps", min=1, help="Repetitions, each in a fresh process."),
@@ -29,8 +30,8 @@ def command(
                                   help="Also time the cold and warm compile and the start-up."),
     recording: bool = typer.Option(True, "--recording/--no-recording",
                                    help="Also time `rustycs run` of S4 recording every tick (with S4)."),
-    scene_dir: Path = typer.Option(None, "--scene-dir", help="Folder of the S*_*.yaml scenes (default: "
-                                   "scenes/bench of the checkout)."),
+    scene_dir: Path = typer.Option(None, "--scene-dir", help="Folder of the S*_*.yaml and compounds.yaml "
+                                   "scenes (default: scenes/bench of the checkout)."),
     json: bool = typer.Option(False, "--json", help="Print the results as JSON on stdout, nothing else."),
     out: Path = typer.Option(None, "--out", "-o", help="Also write the results as JSON to this file."),
     markdown: bool = typer.Option(False, "--markdown", help="Print the tables as Markdown."),
@@ -43,7 +44,8 @@ def command(
     Exit codes: 0 all measured, 1 a measurement failed (diverged or crashed), 2 invalid input or the peer
     engines are missing.
 
-    Example: rustycs bench --scenes S2 S4 --peers --reps 3 --no-scaling
+    Examples: rustycs bench --scenes S2 S4 --peers --reps 3 --no-scaling;
+    rustycs bench compounds --peers --no-scaling --no-compile
     """
     from ..bench import peers as peer_engines
     from ..bench.report import print_report

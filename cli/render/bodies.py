@@ -13,6 +13,8 @@ from .colors import RGB, material_color
 if TYPE_CHECKING:
     import h5py
 
+    from ..shape_table import ShapeTable
+
 BODIES = "particles/bodies"
 
 
@@ -26,18 +28,54 @@ class Attractor:
 
 
 @dataclass(frozen=True)
+class Outlines:
+    """Every shape of a run in its body's frame (its offset and angle applied), as it is drawn.
+
+    Styles: "disc" (a circle: one point, its centre), "area" (a box or polygon: its corners, as written, so
+    a concave polygon is one outline), "stadium" (a capsule: the centres of its end circles), "line" (a
+    segment or chain: its points; `closed` for a loop). A shape's hitbox is the box of its points grown
+    by its radius: exact (the engine fattens it further).
+    """
+
+    body: np.ndarray  # [S] int, body of each shape; a body's shapes are consecutive rows
+    first: np.ndarray  # [N + 1] body i's shapes are rows first[i] .. first[i + 1] - 1
+    style: list[str]
+    closed: np.ndarray  # [S] bool: a line drawn back to its first point
+    start: np.ndarray  # [S + 1] shape s's points are points[start[s]:start[s + 1]]
+    points: np.ndarray  # [P, 2] body frame, about the body origin
+    radius: np.ndarray  # [S] discs and stadiums, else 0
+    spoke: np.ndarray  # [S, 2] body frame: where a disc's spoke ends (its local (0, r)), else 0
+    sensor: np.ndarray  # [S] bool
+    colors: list[RGB]  # each shape's material colour
+
+    @property
+    def count(self) -> int:
+        return len(self.style)
+
+    @property
+    def point_body(self) -> np.ndarray:
+        """[P] the body of each point."""
+        return np.repeat(self.body, np.diff(self.start))
+
+    def of_body(self, body: int) -> range:
+        """The rows of a body's shapes."""
+        return range(int(self.first[body]), int(self.first[body + 1]))
+
+
+STYLES = {"circle": "disc", "aabb": "area", "obb": "area", "polygon": "area", "capsule": "stadium",
+          "segment": "line", "chain": "line"}
+
+
+@dataclass(frozen=True)
 class RunInfo:
     """Everything about a run that does not change from frame to frame."""
 
     source: str
     names: list[str]
     types: list[str]
-    shapes: list[str]
+    shapes: list[str]  # per body: its shape's type, or "compound"
     materials: list[str]
-    colors: list[RGB]
-    radius: np.ndarray  # [N] circle radius, 0 for polygons
-    vertex_count: np.ndarray  # [N] int, 0 for circles
-    vertices: np.ndarray  # [N, 8, 2] body-local about the body origin, unrotated
+    outlines: Outlines
     centroid: np.ndarray  # [N, 2] body-local centre of mass (where velocities apply)
     attractors: list[Attractor]
     bounds: np.ndarray | None  # [[xmin, ymin], [xmax, ymax]] or None
@@ -66,7 +104,14 @@ class RunInfo:
 
 
 def load_run(file: h5py.File, source: str) -> RunInfo:
-    """Read the static body table, attractors and frame times; UserError when a dataset is missing."""
+    """Read the static body table, the shapes, attractors and frame times; UserError when a dataset is
+    missing, or the file predates /shapes (the bodies' outlines)."""
+    if "shapes" not in file:
+        raise UserError(
+            f"{source}: no /shapes in this trajectory (written by a rustycs before bodies made of "
+            f"shapes), so its bodies cannot be drawn; run its scene again to render it: rustycs run {source} "
+            "--out NEW.h5"
+        )
     try:
         return _load(file, source)
     except KeyError as err:
@@ -74,30 +119,47 @@ def load_run(file: h5py.File, source: str) -> RunInfo:
 
 
 def _load(file: h5py.File, source: str) -> RunInfo:
+    from ..shape_table import read_shapes
+
     bodies = _group(file, BODIES)
-    vertex_count = _array(bodies, "vertex_count").astype(np.int64)
-    vertices = _array(bodies, "vertices").astype(np.float64)
-    radius = _array(bodies, "radius").astype(np.float64)
-    materials = _strings(bodies, "material")
     frames = _group(file, f"{BODIES}/position")
     if len(frames["step"]) == 0:
         raise UserError(f"{source}: the trajectory holds no frames")
+    names = _strings(bodies, "name")
     return RunInfo(
         source=source,
-        names=_strings(bodies, "name"),
+        names=names,
         types=_strings(bodies, "type"),
         shapes=_strings(bodies, "shape"),
-        materials=materials,
-        colors=[material_color(material) for material in materials],
-        radius=radius,
-        vertex_count=vertex_count,
-        vertices=vertices,
-        centroid=_centroids(vertices, vertex_count),
+        materials=_strings(bodies, "material"),
+        outlines=outlines(read_shapes(file), len(names)),
+        centroid=_array(bodies, "local_center").astype(np.float64).reshape(len(names), 2),
         attractors=_attractors(file),
         bounds=np.asarray(file["world/bounds"], dtype=np.float64) if "world/bounds" in file else None,
         steps=np.asarray(frames["step"], dtype=np.int64),
         times=np.asarray(frames["time"], dtype=np.float64),
         has_contacts="contacts/offset" in file,
+    )
+
+
+def outlines(table: ShapeTable, body_count: int) -> Outlines:
+    """The shapes of a /shapes table placed on their bodies, ready to draw."""
+    styles = [STYLES[kind] for kind in table.type]
+    parts = [table.body_points(s) for s in range(table.count)]
+    discs = np.array([style == "disc" for style in styles], dtype=bool).reshape(-1, 1)
+    cos, sin = np.cos(table.angle), np.sin(table.angle)
+    tips = table.offset + np.stack([-sin * table.radius, cos * table.radius], axis=-1)  # local (0, r)
+    return Outlines(
+        body=table.body.astype(np.int64),
+        first=np.searchsorted(table.body, np.arange(body_count + 1)),
+        style=styles,
+        closed=table.loop.copy(),
+        start=np.concatenate([[0], np.cumsum([len(p) for p in parts], dtype=np.int64)]),
+        points=np.concatenate([*parts, np.zeros((0, 2))]),
+        radius=table.radius.copy(),
+        spoke=np.where(discs, tips, 0.0),
+        sensor=table.sensor.copy(),
+        colors=[material_color(material) for material in table.material],
     )
 
 
@@ -131,18 +193,3 @@ def _attractors(file: h5py.File) -> list[Attractor]:
         Attractor(names[i], (float(positions[i, 0]), float(positions[i, 1])), float(ranges[i]))
         for i in range(count)
     ]
-
-
-def _centroids(vertices: np.ndarray, counts: np.ndarray) -> np.ndarray:
-    """Area centroid of each polygon or box (body-local); circles have theirs at the origin."""
-    centroids = np.zeros((len(counts), 2))
-    for i, count in enumerate(counts):
-        if count < 3:
-            continue
-        points = vertices[i, :count]
-        following = np.roll(points, -1, axis=0)
-        cross = points[:, 0] * following[:, 1] - following[:, 0] * points[:, 1]
-        area = cross.sum() / 2.0
-        if abs(area) > 1e-300:
-            centroids[i] = ((points + following) * cross[:, None]).sum(axis=0) / (6.0 * area)
-    return centroids

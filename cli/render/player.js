@@ -29,9 +29,14 @@
   const COLORS = { grid: "#e4e4e4", axes: "#b4b4b4", text: "#1e1e1e", hitbox: "#0079f1", contact: "#0079f1",
     velocity: "#c800c8", attractor: "#e6a000", bounds: "#e67878", spoke: "#ffffff", hover: "#ff8c00" };
 
-  // Per-body constants: vertices in counter-clockwise order (so overlapping fills never cancel out),
-  // how far the body reaches from its origin (for culling), and the draw order (statics first).
-  const vertices = bodies.vertices.map((flat) => {
+  // Per-shape constants (body frame, about the body origin): "area" outlines in counter-clockwise
+  // order, so that overlapping fills of one colour never cancel out; each body's shape rows
+  // (consecutive), how far it reaches from its origin (for culling and hit tests), the draw order
+  // (statics first).
+  const shapes = header.shapes;
+  const S = shapes.body.length;
+  const local = shapes.points.map((flat, s) => {
+    if (shapes.style[s] !== "area") return flat;
     let area = 0;
     const count = flat.length / 2;
     for (let k = 0; k < count; k++) {
@@ -43,13 +48,19 @@
     for (let k = count - 1; k >= 0; k--) reversed.push(flat[2 * k], flat[2 * k + 1]);
     return reversed;
   });
-  const reach = vertices.map((flat, i) => {
-    let r = bodies.radius[i];
-    for (let k = 0; k < flat.length; k += 2) r = Math.max(r, Math.hypot(flat[k], flat[k + 1]));
-    return r;
-  });
+  const firstShape = new Int32Array(N + 1);
+  for (let s = 0; s < S; s++) firstShape[shapes.body[s] + 1] = s + 1;
+  for (let i = 1; i <= N; i++) firstShape[i] = Math.max(firstShape[i], firstShape[i - 1]);
+  const reach = new Float64Array(N);
+  for (let s = 0; s < S; s++) {
+    const flat = local[s], i = shapes.body[s];
+    for (let k = 0; k < flat.length; k += 2) {
+      reach[i] = Math.max(reach[i], Math.hypot(flat[k], flat[k + 1]) + shapes.radius[s]);
+    }
+  }
   const isStatic = bodies.types.map((type) => type === "static");
   const order = [...Array(N).keys()].sort((a, b) => (isStatic[b] - isStatic[a]) || (a - b));
+  const LINE_PICK = 4; // pixels: how close to a segment or chain the mouse picks it
 
   const canvas = document.getElementById("view");
   const ctx = canvas.getContext("2d");
@@ -113,18 +124,28 @@
     dirty = true;
   }
 
-  // ---- geometry of body i at frame f, in screen pixels ----
-  const points = new Float64Array(16);
+  // ---- geometry of shape s at frame f ----
+  const world = new Float64Array(local.reduce((most, flat) => Math.max(most, flat.length), 2));
+  const points = new Float64Array(world.length);
 
-  function bodyPoints(f, i) { // fills `points`, returns the vertex count (0: circle)
-    const base = f * N + i;
+  function shapeWorld(f, s) { // fills `world` with the shape's points in metres, returns their count
+    const base = f * N + shapes.body[s];
     const x = position[2 * base], y = position[2 * base + 1], a = angle[base];
-    const c = Math.cos(a), s = Math.sin(a), flat = vertices[i];
+    const c = Math.cos(a), sn = Math.sin(a), flat = local[s];
     for (let k = 0; k < flat.length; k += 2) {
-      points[k] = sx(x + c * flat[k] - s * flat[k + 1]);
-      points[k + 1] = sy(y + s * flat[k] + c * flat[k + 1]);
+      world[k] = x + c * flat[k] - sn * flat[k + 1];
+      world[k + 1] = y + sn * flat[k] + c * flat[k + 1];
     }
     return flat.length / 2;
+  }
+
+  function shapePoints(f, s) { // fills `points` with the shape's points in screen pixels
+    const count = shapeWorld(f, s);
+    for (let k = 0; k < 2 * count; k += 2) {
+      points[k] = sx(world[k]);
+      points[k + 1] = sy(world[k + 1]);
+    }
+    return count;
   }
 
   function visible(f, i) {
@@ -142,42 +163,66 @@
       position[2 * base + 1] + Math.sin(a) * lx + Math.cos(a) * ly];
   }
 
-  function screenBox(f, i) { // [xmin, ymin, xmax, ymax] in pixels
-    const count = bodyPoints(f, i);
-    if (count === 0) {
-      const base = f * N + i, r = bodies.radius[i] * state.scale;
-      const px = sx(position[2 * base]), py = sy(position[2 * base + 1]);
-      return [px - r, py - r, px + r, py + r];
-    }
+  function shapeBox(f, s) { // [xmin, ymin, xmax, ymax] in pixels: the points grown by the radius
+    const count = shapePoints(f, s), r = shapes.radius[s] * state.scale;
     let x0 = Infinity, y0 = Infinity, x1 = -Infinity, y1 = -Infinity;
     for (let k = 0; k < 2 * count; k += 2) {
       x0 = Math.min(x0, points[k]); x1 = Math.max(x1, points[k]);
       y0 = Math.min(y0, points[k + 1]); y1 = Math.max(y1, points[k + 1]);
     }
-    return [x0, y0, x1, y1];
+    return [x0 - r, y0 - r, x1 + r, y1 + r];
   }
 
-  function addShape(path, f, i) { // the outline of body i as a closed sub-path
-    const count = bodyPoints(f, i);
-    if (count === 0) {
-      const base = f * N + i, px = sx(position[2 * base]), py = sy(position[2 * base + 1]);
-      const r = Math.max(bodies.radius[i] * state.scale, 0.5);
-      path.moveTo(px + r, py);
-      path.arc(px, py, r, 0, 2 * Math.PI, true); // anticlockwise on screen = counter-clockwise in the world
-      return;
+  function screenBox(f, i) { // the box around all of body i's shapes, in pixels
+    let box = [Infinity, Infinity, -Infinity, -Infinity];
+    for (let s = firstShape[i]; s < firstShape[i + 1]; s++) {
+      const [x0, y0, x1, y1] = shapeBox(f, s);
+      box = [Math.min(box[0], x0), Math.min(box[1], y0), Math.max(box[2], x1), Math.max(box[3], y1)];
     }
+    return box;
+  }
+
+  function addShape(path, f, s) { // a closed sub-path: disc, polygon or stadium (not lines)
+    const count = shapePoints(f, s), style = shapes.style[s];
+    const r = Math.max(shapes.radius[s] * state.scale, 0.5);
+    if (style === "disc") {
+      path.moveTo(points[0] + r, points[1]);
+      path.arc(points[0], points[1], r, 0, 2 * Math.PI, true); // anticlockwise on screen = counter-clockwise in the world
+    } else if (style === "stadium") { // both half circles anticlockwise on screen, joined by the sides
+      const heading = Math.atan2(points[3] - points[1], points[2] - points[0]);
+      path.moveTo(points[2] + r * Math.cos(heading + Math.PI / 2), points[3] + r * Math.sin(heading + Math.PI / 2));
+      path.arc(points[2], points[3], r, heading + Math.PI / 2, heading - Math.PI / 2, true);
+      path.arc(points[0], points[1], r, heading - Math.PI / 2, heading - 1.5 * Math.PI, true);
+      path.closePath();
+    } else {
+      path.moveTo(points[0], points[1]);
+      for (let k = 2; k < 2 * count; k += 2) path.lineTo(points[k], points[k + 1]);
+      path.closePath();
+    }
+  }
+
+  function addLine(path, f, s) { // a segment or chain, back to its first point when it loops
+    const count = shapePoints(f, s);
     path.moveTo(points[0], points[1]);
     for (let k = 2; k < 2 * count; k += 2) path.lineTo(points[k], points[k + 1]);
-    path.closePath();
+    if (shapes.closed[s]) path.closePath();
   }
 
-  function addSpoke(path, f, i) { // circles: centre to the rotated body-local point (0, r)
-    const r = bodies.radius[i] * state.scale;
-    if (vertices[i].length > 0 || r < 3) return;
-    const base = f * N + i, a = angle[base];
-    const px = sx(position[2 * base]), py = sy(position[2 * base + 1]);
-    path.moveTo(px, py);
-    path.lineTo(px - Math.sin(a) * r, py - Math.cos(a) * r);
+  function addSpoke(path, f, s) { // discs: centre to the rotated shape-local point (0, r)
+    const r = shapes.radius[s] * state.scale;
+    if (shapes.style[s] !== "disc" || r < 3) return;
+    const base = f * N + shapes.body[s], a = angle[base], [lx, ly] = shapes.spoke[s];
+    const x = position[2 * base] + Math.cos(a) * lx - Math.sin(a) * ly;
+    const y = position[2 * base + 1] + Math.sin(a) * lx + Math.cos(a) * ly;
+    shapePoints(f, s);
+    path.moveTo(points[0], points[1]);
+    path.lineTo(sx(x), sy(y));
+  }
+
+  function addBody(path, f, i) { // every shape of body i, lines included (for the hover outline)
+    for (let s = firstShape[i]; s < firstShape[i + 1]; s++) {
+      if (shapes.style[s] === "line") addLine(path, f, s); else addShape(path, f, s);
+    }
   }
 
   // ---- drawing ----
@@ -250,36 +295,59 @@
   }
 
   function drawBodies(f, shown) {
-    const fills = new Map(), outlines = new Map(), spokes = new Path2D(), kinematic = new Path2D();
+    const fills = new Map(), outlines = new Map(), lines = new Map(), sensorFills = new Map();
+    const sensorLines = new Map(), spokes = new Path2D(), kinematic = new Path2D();
     const pathFor = (map, color) => map.get(color) || map.set(color, new Path2D()).get(color);
     for (const i of shown) {
-      const color = bodies.colors[i];
-      if (isStatic[i]) {
-        const path = pathFor(outlines, color);
-        addShape(path, f, i);
-        addSpoke(path, f, i);
-      } else {
-        addShape(pathFor(fills, color), f, i);
-        addSpoke(spokes, f, i);
-        if (bodies.types[i] === "kinematic") addShape(kinematic, f, i);
+      for (let s = firstShape[i]; s < firstShape[i + 1]; s++) {
+        const color = shapes.colors[s], style = shapes.style[s];
+        if (shapes.sensor[s]) {
+          if (style === "line") addLine(pathFor(sensorLines, color), f, s);
+          else {
+            addShape(pathFor(sensorFills, color), f, s);
+            addShape(pathFor(sensorLines, color), f, s);
+          }
+        } else if (style === "line") {
+          addLine(pathFor(lines, color), f, s);
+        } else if (isStatic[i]) {
+          const path = pathFor(outlines, color);
+          addShape(path, f, s);
+          addSpoke(path, f, s);
+        } else {
+          addShape(pathFor(fills, color), f, s);
+          addSpoke(spokes, f, s);
+          if (bodies.types[i] === "kinematic") addShape(kinematic, f, s);
+        }
       }
     }
     ctx.lineWidth = 2;
     for (const [color, path] of outlines) { ctx.strokeStyle = color; ctx.stroke(path); }
+    for (const [color, path] of lines) { ctx.strokeStyle = color; ctx.stroke(path); }
     for (const [color, path] of fills) { ctx.fillStyle = color; ctx.fill(path); }
     ctx.lineWidth = 1;
     ctx.strokeStyle = COLORS.text;
     ctx.stroke(kinematic);
     ctx.strokeStyle = COLORS.spoke;
     ctx.stroke(spokes);
+    // sensors: a faint fill and a dashed outline over everything
+    ctx.globalAlpha = 0.25;
+    for (const [color, path] of sensorFills) { ctx.fillStyle = color; ctx.fill(path); }
+    ctx.globalAlpha = 0.7;
+    ctx.setLineDash([5, 4]);
+    ctx.lineWidth = 1.5;
+    for (const [color, path] of sensorLines) { ctx.strokeStyle = color; ctx.stroke(path); }
+    ctx.setLineDash([]);
+    ctx.globalAlpha = 1;
   }
 
   function drawOverlays(f, shown) {
     if (state.hitboxes) {
       const path = new Path2D();
       for (const i of shown) {
-        const [x0, y0, x1, y1] = screenBox(f, i);
-        path.rect(x0, y0, x1 - x0, y1 - y0);
+        for (let s = firstShape[i]; s < firstShape[i + 1]; s++) {
+          const [x0, y0, x1, y1] = shapeBox(f, s);
+          path.rect(x0, y0, x1 - x0, y1 - y0);
+        }
       }
       ctx.lineWidth = 1;
       ctx.strokeStyle = COLORS.hitbox;
@@ -339,7 +407,7 @@
     const i = state.hover;
     if (i < 0 || !active[f * N + i]) { tooltip.style.display = "none"; return; }
     const path = new Path2D();
-    addShape(path, f, i);
+    addBody(path, f, i);
     ctx.lineWidth = 2;
     ctx.strokeStyle = COLORS.hover;
     ctx.stroke(path);
@@ -381,23 +449,41 @@
   }
 
   // ---- hit test: the topmost active body under a screen point ----
+  function segmentDistance(x, y, ax, ay, bx, by) {
+    const dx = bx - ax, dy = by - ay, length2 = dx * dx + dy * dy;
+    const t = length2 > 0 ? Math.min(Math.max(((x - ax) * dx + (y - ay) * dy) / length2, 0), 1) : 0;
+    return Math.hypot(x - ax - t * dx, y - ay - t * dy);
+  }
+
+  function shapeHolds(f, s, x, y) { // is world point (x, y) on shape s?
+    const count = shapeWorld(f, s), style = shapes.style[s], r = shapes.radius[s];
+    if (style === "disc") return Math.hypot(x - world[0], y - world[1]) <= r;
+    if (style === "stadium") return segmentDistance(x, y, world[0], world[1], world[2], world[3]) <= r;
+    if (style === "line") {
+      const pick = LINE_PICK / state.scale, last = shapes.closed[s] ? count : count - 1;
+      for (let k = 0; k < last; k++) {
+        const j = (k + 1) % count;
+        if (segmentDistance(x, y, world[2 * k], world[2 * k + 1], world[2 * j], world[2 * j + 1]) <= pick) return true;
+      }
+      return false;
+    }
+    let inside = false; // crossings of a ray to the right: concave polygons too
+    for (let k = 0, j = count - 1; k < count; j = k++) {
+      const yk = world[2 * k + 1], yj = world[2 * j + 1];
+      if ((yk > y) !== (yj > y)
+          && x < world[2 * j] + ((y - yj) * (world[2 * k] - world[2 * j])) / (yk - yj)) inside = !inside;
+    }
+    return inside;
+  }
+
   function bodyAt(px, py) {
-    const f = state.frame, x = wx(px), y = wy(py);
+    const f = state.frame, x = wx(px), y = wy(py), pick = LINE_PICK / state.scale;
     for (let n = order.length - 1; n >= 0; n--) {
       const i = order[n], base = f * N + i;
       if (!active[base]) continue;
       const dx = x - position[2 * base], dy = y - position[2 * base + 1];
-      if (!(dx * dx + dy * dy <= reach[i] * reach[i])) continue;
-      const flat = vertices[i];
-      if (flat.length === 0) return i;
-      const a = angle[base], c = Math.cos(a), s = Math.sin(a);
-      const lx = c * dx + s * dy, ly = -s * dx + c * dy; // into the body's frame
-      let inside = true;
-      for (let k = 0; k < flat.length && inside; k += 2) {
-        const j = (k + 2) % flat.length;
-        inside = (flat[j] - flat[k]) * (ly - flat[k + 1]) - (flat[j + 1] - flat[k + 1]) * (lx - flat[k]) >= 0;
-      }
-      if (inside) return i;
+      if (!(Math.hypot(dx, dy) <= reach[i] + pick)) continue;
+      for (let s = firstShape[i]; s < firstShape[i + 1]; s++) if (shapeHolds(f, s, x, y)) return i;
     }
     return -1;
   }

@@ -50,6 +50,7 @@ def write_player(
     header = {
         "source": run.source,
         "bodies": _bodies(run),
+        "shapes": _shapes(run),
         "attractors": [
             {"name": a.name, "x": a.position[0], "y": a.position[1], "range": _finite(a.range)}
             for a in run.attractors
@@ -130,13 +131,23 @@ def _bodies(run: RunInfo) -> dict:
         "types": run.types,
         "shapes": run.shapes,
         "materials": run.materials,
-        "colors": [hex_color(color) for color in run.colors],
-        "radius": [float(r) for r in run.radius],
-        "vertices": [
-            [float(v) for v in run.vertices[i, :count].reshape(-1)]
-            for i, count in enumerate(run.vertex_count)
-        ],
         "centroid": [[float(c) for c in centroid] for centroid in run.centroid],
+    }
+
+
+def _shapes(run: RunInfo) -> dict:
+    """Every shape in its body's frame (`Outlines`), as JSON-friendly lists: points flat per shape."""
+    outlines = run.outlines
+    points, start = outlines.points, outlines.start
+    return {
+        "body": outlines.body.tolist(),
+        "style": outlines.style,
+        "closed": outlines.closed.tolist(),
+        "points": [points[start[s]:start[s + 1]].reshape(-1).tolist() for s in range(outlines.count)],
+        "radius": outlines.radius.tolist(),
+        "spoke": outlines.spoke.tolist(),
+        "sensor": outlines.sensor.tolist(),
+        "colors": [hex_color(color) for color in outlines.colors],
     }
 
 

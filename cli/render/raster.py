@@ -24,6 +24,9 @@ CONTACT_DOT = 3.0  # pixels
 NORMAL_LENGTH = 14.0  # pixels
 LABEL_SPACING = 64.0  # pixels between grid labels at least
 CORNER_CLEAR = 30.0  # pixels at the top left kept for the tick label
+SENSOR_FILL_ALPHA = 64  # of 255: a sensor shows what lies under it
+SENSOR_OUTLINE_ALPHA = 160
+Color = tuple[int, ...]  # RGB, or RGBA on the sensors' layer
 
 
 @dataclass(frozen=True)
@@ -53,11 +56,15 @@ def draw_frame(run: RunInfo, frame: Frame, view: View, overlays: Overlays) -> Im
         low, high = big.to_pixel(run.bounds)
         draw.rectangle([low[0], high[1], high[0], low[1]], outline=colors.BOUNDS, width=SUPERSAMPLE)
     _attractors(draw, run, big)
-    boxes = geometry.hitboxes(run, frame.position, frame.angle)
+    points = geometry.world_points(run, frame.position, frame.angle)
+    shape_boxes = geometry.shape_boxes(run, points)
+    boxes = geometry.hitboxes(run, shape_boxes)
     visible = _visible(frame, boxes, big)
-    _bodies(draw, run, frame, big, visible)
+    image = _bodies(image, run, frame, big, visible, points)
+    draw = ImageDraw.Draw(image)
     if overlays.hitboxes:
-        for xmin, ymin, xmax, ymax in big.to_pixel(boxes[visible].reshape(-1, 2, 2)).reshape(-1, 4):
+        shown = shape_boxes[visible[run.outlines.body]]
+        for xmin, ymin, xmax, ymax in big.to_pixel(shown.reshape(-1, 2, 2)).reshape(-1, 4):
             draw.rectangle([xmin, ymax, xmax, ymin], outline=colors.HITBOX, width=SUPERSAMPLE)
     if overlays.contacts and frame.contacts is not None:
         _contacts(draw, frame, big)
@@ -140,32 +147,76 @@ def _attractors(draw: ImageDraw.ImageDraw, run: RunInfo, view: View) -> None:
         )
 
 
-def _bodies(draw: ImageDraw.ImageDraw, run: RunInfo, frame: Frame, view: View, visible: np.ndarray) -> None:
-    """Bodies filled in their material's colour (static ones outlined), statics first, a spoke on circles."""
-    vertices = view.to_pixel(geometry.world_vertices(run, frame.position, frame.angle))
-    origins = view.to_pixel(frame.position)
+@dataclass(frozen=True)
+class Paint:
+    """How one shape is drawn: fill and outline colours (None: not drawn), outline width, the colour of a
+    disc's spoke and of lines (segments and chains)."""
+
+    fill: Color | None
+    outline: Color | None
+    width: int
+    spoke: Color | None
+    line: Color
+
+
+def paint(color: colors.RGB, body_type: str, sensor: bool) -> Paint:
+    """Dynamic bodies filled, kinematic ones filled and outlined in black, static ones outlined only;
+    sensors filled faintly with a lighter outline and no spoke (drawn on a layer blended on top)."""
+    if sensor:
+        faint = (*color, SENSOR_OUTLINE_ALPHA)
+        return Paint((*color, SENSOR_FILL_ALPHA), faint, SUPERSAMPLE, None, faint)
+    if body_type == "static":
+        return Paint(None, color, 2 * SUPERSAMPLE, color, color)
+    outline = colors.TEXT if body_type == "kinematic" else None
+    return Paint(color, outline, SUPERSAMPLE, colors.SPOKE, color)
+
+
+def _bodies(image: Image.Image, run: RunInfo, frame: Frame, view: View, visible: np.ndarray,
+            points: np.ndarray) -> Image.Image:
+    """The visible bodies' shapes in their materials' colours, statics first; sensors on a translucent
+    layer over everything. Returns the image drawn on (a new one when sensors were blended in)."""
+    outlines = run.outlines
+    pixels = view.to_pixel(points)
     tips = view.to_pixel(geometry.spoke_tips(run, frame.position, frame.angle))
     order = sorted(np.flatnonzero(visible), key=lambda i: run.types[i] != "static")
-    outline_width = 2 * SUPERSAMPLE
+    draw = ImageDraw.Draw(image)
+    sensors = []
     for i in order:
-        color = run.colors[i]
-        static = run.types[i] == "static"
-        fill = None if static else color
-        outline = color if static else (colors.TEXT if run.types[i] == "kinematic" else None)
-        width = outline_width if static else SUPERSAMPLE
-        count = run.vertex_count[i]
-        if count == 0:
-            px, py = origins[i]
-            reach = max(run.radius[i] * view.scale, SUPERSAMPLE / 2)
-            draw.ellipse(
-                [px - reach, py - reach, px + reach, py + reach], fill=fill, outline=outline, width=width
-            )
-            if reach >= 3 * SUPERSAMPLE:
-                spoke = color if static else colors.SPOKE
-                draw.line([(px, py), tuple(tips[i])], fill=spoke, width=SUPERSAMPLE)
-        else:
-            points = [tuple(point) for point in vertices[i, :count]]
-            draw.polygon(points, fill=fill, outline=outline, width=width)
+        for s in outlines.of_body(i):
+            if outlines.sensor[s]:
+                sensors.append(s)
+            else:
+                _shape(draw, run, s, pixels, tips, view.scale, paint(outlines.colors[s], run.types[i], False))
+    if not sensors:
+        return image
+    layer = Image.new("RGBA", image.size, (0, 0, 0, 0))
+    draw = ImageDraw.Draw(layer)
+    for s in sensors:
+        style = paint(outlines.colors[s], run.types[outlines.body[s]], True)
+        _shape(draw, run, s, pixels, tips, view.scale, style)
+    return Image.alpha_composite(image.convert("RGBA"), layer).convert("RGB")
+
+
+def _shape(draw: ImageDraw.ImageDraw, run: RunInfo, s: int, pixels: np.ndarray, tips: np.ndarray,
+           scale: float, style: Paint) -> None:
+    """Shape s (its points in `pixels`): a disc with its spoke, a polygon, a stadium, or a line."""
+    outlines = run.outlines
+    points = pixels[outlines.start[s]:outlines.start[s + 1]]
+    kind = outlines.style[s]
+    if kind == "line":
+        line = [tuple(p) for p in points] + ([tuple(points[0])] if outlines.closed[s] else [])
+        draw.line(line, fill=style.line, width=2 * SUPERSAMPLE, joint="curve")
+        return
+    if kind == "disc":
+        (px, py), reach = points[0], max(outlines.radius[s] * scale, SUPERSAMPLE / 2)
+        draw.ellipse([px - reach, py - reach, px + reach, py + reach], fill=style.fill, outline=style.outline,
+                     width=style.width)
+        if style.spoke is not None and reach >= 3 * SUPERSAMPLE:
+            draw.line([(px, py), tuple(tips[s])], fill=style.spoke, width=SUPERSAMPLE)
+        return
+    if kind == "stadium":
+        points = geometry.stadium(points[0], points[1], outlines.radius[s] * scale)
+    draw.polygon([tuple(p) for p in points], fill=style.fill, outline=style.outline, width=style.width)
 
 
 def _contacts(draw: ImageDraw.ImageDraw, frame: Frame, view: View) -> None:

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..errors import UserError
 from .bodies import BODIES, RunInfo
-from .geometry import hitboxes
+from .geometry import body_hitboxes
 
 if TYPE_CHECKING:
     import h5py
@@ -98,7 +98,7 @@ def fit_box(file: h5py.File, run: RunInfo) -> Box:
     for index in {0, run.frame_count - 1}:
         position = np.asarray(file[f"{BODIES}/position/value"][index], dtype=np.float64)
         angle = np.asarray(file[f"{BODIES}/angle/value"][index], dtype=np.float64)
-        boxes = hitboxes(run, position, angle)
+        boxes = body_hitboxes(run, position, angle)
         active = np.asarray(file[f"{BODIES}/active/value"][index], dtype=bool)
         active &= np.isfinite(boxes).all(axis=1)
         corners += [boxes[active, :2], boxes[active, 2:]]
