@@ -26,8 +26,10 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from rustycs.constants import CHAIN_ANGLE_TOLERANCE, REFERENCE_TOLERANCE
+from rustycs.constants import CHAIN_ANGLE_TOLERANCE, LINEAR_SLOP, REFERENCE_TOLERANCE
 from rustycs.pieces import OPEN_END, OPEN_START
+
+VERTEX_TOLERANCE = 0.1 * LINEAR_SLOP  # m: cores further apart may meet vertex to vertex (Box2D)
 
 
 class Collision(NamedTuple):
@@ -265,9 +267,139 @@ def collide_polygons(verts, normals, counts, centre, boxes, a, ra, b, rb, margin
             inc = k
     inc2 = inc + 1 if inc + 1 < ic else 0
     ref2 = ref + 1 if ref + 1 < rc else 0
-    return _clip_edges(verts[r, ref, 0], verts[r, ref, 1], verts[r, ref2, 0], verts[r, ref2, 1], nx, ny,
-                       verts[i, inc, 0], verts[i, inc, 1], verts[i, inc2, 0], verts[i, inc2, 1], r_ref, r_inc,
-                       margin, (flip << 7) | (ref << 4) | (inc << 1), flip, out)
+    r1x, r1y, r2x, r2y = verts[r, ref, 0], verts[r, ref, 1], verts[r, ref2, 0], verts[r, ref2, 1]
+    i1x, i1y, i2x, i2y = verts[i, inc, 0], verts[i, inc, 1], verts[i, inc2, 0], verts[i, inc2, 1]
+    base = (flip << 7) | (ref << 4) | (inc << 1)
+    if max(sep_a, sep_b) <= VERTEX_TOLERANCE:  # the cores overlap or touch: the faces' clipped points
+        return _clip_edges(r1x, r1y, r2x, r2y, nx, ny, i1x, i1y, i2x, i2y, r_ref, r_inc, margin, base, flip,
+                           out)
+    # The cores are apart: the closest features of the two edges may be two vertices (two boxes corner
+    # to corner, two capsules end to end), which the faces' axes only bound from below.
+    f1, f2, gap2 = _segment_distance(r1x, r1y, r2x, r2y, i1x, i1y, i2x, i2y)
+    gap = math.sqrt(gap2)
+    if gap - radius > margin:
+        return 0
+    count = _clip_edges(r1x, r1y, r2x, r2y, nx, ny, i1x, i1y, i2x, i2y, r_ref, r_inc, margin, base, flip, out)
+    closest = math.inf
+    for k in range(count):
+        closest = min(closest, out.separations[k])
+    if (f1 == 0.0 or f1 == 1.0) and (f2 == 0.0 or f2 == 1.0) and gap - radius + VERTEX_TOLERANCE < closest:
+        vx, vy = (r1x, r1y) if f1 == 0.0 else (r2x, r2y)
+        wx, wy = (i1x, i1y) if f2 == 0.0 else (i2x, i2y)
+        ux, uy = (wx - vx) / gap, (wy - vy) / gap  # from the reference vertex to the incident one
+        out.normal[0], out.normal[1] = (-ux, -uy) if flip else (ux, uy)
+        out.points[0, 0] = 0.5 * (vx + r_ref * ux + wx - r_inc * ux)
+        out.points[0, 1] = 0.5 * (vy + r_ref * uy + wy - r_inc * uy)
+        out.separations[0] = gap - radius
+        # a vertex pair's id: both vertices' indices, and a bit that no clipped point sets
+        vertex_a = ref if f1 == 0.0 else ref2
+        vertex_b = inc if f2 == 0.0 else inc2
+        out.ids[0] = (flip << 7) | (1 << 6) | (vertex_a << 3) | vertex_b
+        return 1
+    return count
+
+
+@njit(cache=True, inline="always")
+def collide_capsules(verts, a, ra, b, rb, margin, out):
+    """Two pieces of two vertices each (capsules, segments): their cores are segments, whose side normals
+    alone miss the ends, so the closest points of the segments decide. Where their projections overlap,
+    the reference segment's face (the side of greater separation) clips the other to two points, as a
+    capsule resting on another needs; otherwise one point between the closest points."""
+    p1x, p1y, q1x, q1y = verts[a, 0, 0], verts[a, 0, 1], verts[a, 1, 0], verts[a, 1, 1]
+    p2x, p2y, q2x, q2y = verts[b, 0, 0], verts[b, 0, 1], verts[b, 1, 0], verts[b, 1, 1]
+    radius = ra + rb
+    f1, f2, gap2 = _segment_distance(p1x, p1y, q1x, q1y, p2x, p2y, q2x, q2y)
+    gap = math.sqrt(gap2)
+    if gap - radius > margin:
+        return 0
+    count = 0
+    for flip in range(2):  # each segment as the reference in turn, the first whose face clips wins
+        if count:
+            break
+        if flip:
+            rx, ry, sx, sy, ix, iy, jx, jy, r_ref, r_inc = p2x, p2y, q2x, q2y, p1x, p1y, q1x, q1y, rb, ra
+        else:
+            rx, ry, sx, sy, ix, iy, jx, jy, r_ref, r_inc = p1x, p1y, q1x, q1y, p2x, p2y, q2x, q2y, ra, rb
+        length = math.sqrt((sx - rx) ** 2 + (sy - ry) ** 2)
+        ux, uy = (sx - rx) / length, (sy - ry) / length
+        di = ux * (ix - rx) + uy * (iy - ry)
+        dj = ux * (jx - rx) + uy * (jy - ry)
+        if (di <= 0.0 and dj <= 0.0) or (di >= length and dj >= length):
+            continue  # the other segment lies beyond an end of this one
+        nx, ny = -uy, ux  # the face towards the other segment
+        if nx * (ix + jx - rx - sx) + ny * (iy + jy - ry - sy) < 0.0:
+            nx, ny = -nx, -ny
+        # the other segment clipped to this one's extent
+        cix, ciy, cjx, cjy = ix, iy, jx, jy
+        if di < 0.0:
+            t = -di / (dj - di)
+            cix, ciy = ix + t * (jx - ix), iy + t * (jy - iy)
+        elif di > length:
+            t = (di - length) / (di - dj)
+            cix, ciy = ix + t * (jx - ix), iy + t * (jy - iy)
+        if dj < 0.0:
+            t = -dj / (di - dj)
+            cjx, cjy = jx + t * (ix - jx), jy + t * (iy - jy)
+        elif dj > length:
+            t = (dj - length) / (dj - di)
+            cjx, cjy = jx + t * (ix - jx), jy + t * (iy - jy)
+        si = nx * (cix - rx) + ny * (ciy - ry)
+        sj = nx * (cjx - rx) + ny * (cjy - ry)
+        if min(si, sj) > gap + LINEAR_SLOP:
+            continue  # the face is not where the segments are closest (crossing or far apart)
+        for slot in range(2):
+            cx, cy, core = (cix, ciy, si) if slot == 0 else (cjx, cjy, sj)
+            if core - radius > margin:
+                continue
+            shift = 0.5 * (r_ref - r_inc - core)
+            out.points[count, 0] = cx + shift * nx
+            out.points[count, 1] = cy + shift * ny
+            out.separations[count] = core - radius
+            out.ids[count] = (flip << 7) | (1 << 5) | slot
+            count += 1
+        out.normal[0], out.normal[1] = (-nx, -ny) if flip else (nx, ny)
+    if count:
+        return count
+    # one point between the closest points
+    cx1, cy1 = p1x + f1 * (q1x - p1x), p1y + f1 * (q1y - p1y)
+    cx2, cy2 = p2x + f2 * (q2x - p2x), p2y + f2 * (q2y - p2y)
+    if gap > 1e-12:
+        nx, ny = (cx2 - cx1) / gap, (cy2 - cy1) / gap
+    else:
+        length = math.sqrt((q1x - p1x) ** 2 + (q1y - p1y) ** 2)
+        nx, ny = -(q1y - p1y) / length, (q1x - p1x) / length
+    out.normal[0], out.normal[1] = nx, ny
+    out.points[0, 0] = 0.5 * (cx1 + ra * nx + cx2 - rb * nx)
+    out.points[0, 1] = 0.5 * (cy1 + ra * ny + cy2 - rb * ny)
+    out.separations[0] = gap - radius
+    out.ids[0] = (int(f1 > 0.0) << 1) | int(f2 > 0.0)
+    return 1
+
+
+@njit(cache=True, inline="always")
+def _segment_distance(p1x, p1y, q1x, q1y, p2x, p2y, q2x, q2y):
+    """Closest points of the segments p1 q1 and p2 q2: the fractions along each (0 and 1: their ends)
+    and the squared distance between the points."""
+    d1x, d1y = q1x - p1x, q1y - p1y
+    d2x, d2y = q2x - p2x, q2y - p2y
+    rx, ry = p1x - p2x, p1y - p2y
+    dd1 = d1x * d1x + d1y * d1y
+    dd2 = d2x * d2x + d2y * d2y
+    rd1 = rx * d1x + ry * d1y
+    rd2 = rx * d2x + ry * d2y
+    d12 = d1x * d2x + d1y * d2y
+    denominator = dd1 * dd2 - d12 * d12
+    f1 = min(max((d12 * rd2 - rd1 * dd2) / denominator, 0.0), 1.0) if denominator != 0.0 else 0.0
+    f2 = (d12 * f1 + rd2) / dd2
+    if f2 < 0.0:  # clamped on segment 2: the closest point on segment 1 again
+        f2 = 0.0
+        f1 = min(max(-rd1 / dd1, 0.0), 1.0)
+    elif f2 > 1.0:
+        f2 = 1.0
+        f1 = min(max((d12 - rd1) / dd1, 0.0), 1.0)
+    cx = p1x + f1 * d1x - p2x - f2 * d2x
+    cy = p1y + f1 * d1y - p2y - f2 * d2y
+    return f1, f2, cx * cx + cy * cy
 
 
 # ------------------------------------------------------------------------------- chain segments

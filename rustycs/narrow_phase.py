@@ -18,6 +18,7 @@ from numba import njit
 from rustycs.broad_phase import SHAPE_BITS, SHAPE_MASK, hitboxes_overlap
 from rustycs.manifold import (
     Collision,
+    collide_capsules,
     collide_chain_circle,
     collide_chain_polygon,
     collide_circles,
@@ -98,6 +99,8 @@ def _collide(shapes, geometry, sa, sb, within, out):
     elif ka == CHAIN_SEGMENT:
         count = collide_chain_polygon(verts, normals, n_verts, geometry.ghosts, shapes.open_ends, sa, sb,
                                       radius[sb], within, out)
+    elif n_verts[sa] == 2 and n_verts[sb] == 2:
+        count = collide_capsules(verts, sa, radius[sa], sb, radius[sb], within, out)
     elif kb == CIRCLE:
         count = collide_polygon_circle(verts, normals, n_verts, sa, radius[sa], centroid[sb, 0],
                                        centroid[sb, 1], radius[sb], within, out)

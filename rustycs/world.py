@@ -68,6 +68,7 @@ class World:
     def __init__(self, tick_rate: float = defaults.TICK_RATE, precision: int = defaults.PRECISION,
                  gravitational_constant: float = defaults.GRAVITATIONAL_CONSTANT, bounds=None,
                  restitution_threshold: float = defaults.RESTITUTION_THRESHOLD):
+        ensure_fresh()  # before any kernel runs: a cache compiled from other sources is dropped
         if not tick_rate > 0:
             raise ValueError("tick_rate must be > 0")
         if int(precision) < 1:
@@ -433,7 +434,6 @@ class World:
         written into its rows from 0 on, with no Python per tick; returns the number of frames
         written. The buffer must hold them all: ceil(n / every) rows.
         """
-        ensure_fresh()
         from rustycs.step import BAD_BODY, ESCAPED, FRAMES, TICKS_DONE, new_workspace, step_world
 
         if n <= 0:
