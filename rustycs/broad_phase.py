@@ -50,7 +50,7 @@ def _cell(value, origin, inv_cell, count):
     return int(min(max((value - origin) * inv_cell, 0.0), count - 1.0))
 
 
-@tick_kernel
+@njit(cache=True, inline="always")
 def pairs_hold(bodies, shapes, geometry, pairs):
     """Whether the pairs found for the fat hitboxes still hold: they were found (count >= 0), no body
     was switched on or off, and every active shape's hitbox lies inside its fat one (a non-finite

@@ -12,7 +12,6 @@ import numpy as np
 from numba import njit
 
 from rustycs.narrow_phase import NORMAL_IMPULSE, TANGENT_IMPULSE
-from rustycs.tick_kernel import tick_kernel
 
 
 class ContactCache(NamedTuple):
@@ -36,7 +35,7 @@ def new_cache(capacity, key, normal_impulse, tangent_impulse):
     return cache
 
 
-@tick_kernel
+@njit(cache=True, inline="always")
 def warm_start_points(points, n_points, cache):
     """Give each point the impulses last tick's point of the same key ended with."""
     key, data = points.key, points.data
@@ -51,7 +50,7 @@ def warm_start_points(points, n_points, cache):
             data[p, TANGENT_IMPULSE] = c_jt[f]
 
 
-@tick_kernel
+@njit(cache=True, inline="always")
 def remember(points, n_points, cache):
     """Keep this tick's points and impulses for the next tick (the cache holds at least n_points)."""
     key, data = points.key, points.data

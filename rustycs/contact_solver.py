@@ -110,7 +110,7 @@ def _bodies_approach(body, a, b, nx, ny, rna, rnb):
                      rnb)
 
 
-@tick_kernel
+@njit(cache=True, inline="always")
 def load_bodies(bodies, body):
     """Fill the solver rows of the bodies: velocities, inverse masses, no displacement yet since the
     narrow phase."""
@@ -127,7 +127,7 @@ def load_bodies(bodies, body):
         body[i, SIN] = 0.0
 
 
-@tick_kernel
+@njit(cache=True, inline="always")
 def store_bodies(body, bodies):
     """Copy velocities back to the dynamic bodies (the others' velocities are theirs to keep)."""
     v, w, body_type = bodies.v, bodies.w, bodies.body_type
@@ -210,7 +210,7 @@ def prepare(batches, n_chunks, manifolds, points, body, soft, stiff, lanes):
     return bouncy
 
 
-@tick_kernel
+@njit(cache=True, inline="always")
 def store_impulses(batches, n_chunks, manifolds, lanes, points):
     """Copy the accumulated impulses back to the point rows (the next tick's warm start)."""
     fill, slot_manifold = batches.fill, batches.slot_manifold

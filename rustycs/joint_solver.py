@@ -204,7 +204,7 @@ def _springs(f):
     return (f[SPRING_RATE], f[SPRING_MASS_SCALE], f[SPRING_IMPULSE_SCALE])
 
 
-@tick_kernel
+@njit(cache=True, inline="always")
 def _revolute_or_weld_pass(mode, bodies, body, joints, frames, soft, h):
     """Revolute joints (spring, motor, limits on the angle; the anchors meet) and welds (the angle held,
     rigidly or softly; the anchors meet, rigidly or softly), in their order."""
@@ -248,7 +248,7 @@ def _revolute_or_weld_pass(mode, bodies, body, joints, frames, soft, h):
              spring, 0.0, 0.0, inv_h, reaction, rbx, rby)
 
 
-@tick_kernel
+@njit(cache=True, inline="always")
 def _slider_pass(mode, bodies, body, joints, frames, soft, h):
     """Prismatic joints (spring, motor, limits along the axis; rigid across it and in angle) and wheels
     (spring and limits along the axis, a motor turning the wheel; rigid across the axis), in order."""
@@ -295,7 +295,7 @@ def _slider_pass(mode, bodies, body, joints, frames, soft, h):
                  soft, spring, 0.0, 0.0, inv_h, reaction, rbx, rby)
 
 
-@tick_kernel
+@njit(cache=True, inline="always")
 def _length_pass(mode, bodies, body, joints, frames, soft, h):
     """Distance joints (a rigid rod, or a spring held between min and max length), ropes (at most their
     length) and pulleys (length_a + ratio length_b held), in order."""
@@ -358,7 +358,7 @@ def _coordinate(bodies, body, joints, frames, j):
     return ux * dx + uy * dy, _along(ux, uy, dx + rax, dy + ray, rbx, rby, 1.0)
 
 
-@tick_kernel
+@njit(cache=True, inline="always")
 def _gear_pass(mode, bodies, body, joints, frames, soft, h):
     """Gears: coordinate_1 + ratio coordinate_2 stays constant, one row on the four bodies of the two
     joints (a body in two slots takes both parts), with the joints' Jacobians."""
@@ -404,7 +404,8 @@ def _gear_pass(mode, bodies, body, joints, frames, soft, h):
 @tick_kernel
 def joints_pass(mode, bodies, body, joints, frames, soft, h):
     """One pass of `mode` over the active joints: each kind's joints in their order, the gears last
-    (they couple the others' coordinates)."""
+    (they couple the others' coordinates). A kernel of its own, called by every pass: inlined into each
+    of them, the joints took minutes to compile."""
     _revolute_or_weld_pass(mode, bodies, body, joints, frames, soft, h)
     _slider_pass(mode, bodies, body, joints, frames, soft, h)
     _length_pass(mode, bodies, body, joints, frames, soft, h)
@@ -419,7 +420,7 @@ def _spring(hertz, damping_ratio, h):
     return softness(hertz, damping_ratio, h)
 
 
-@tick_kernel
+@njit(cache=True, inline="always")
 def prepare_joints(bodies, joints, h, frames):
     """The tick's anchors and axes in world orientation, and the softness of the springs."""
     angle = bodies.angle
@@ -440,10 +441,12 @@ def prepare_joints(bodies, joints, h, frames):
             settings[ANGULAR_HERTZ], settings[DAMPING_RATIO], h)
 
 
-@tick_kernel
+@njit(cache=True, inline="always")
 def break_joints(bodies, body, joints, frames, h, broken):
     """Each joint's reaction of the tick (see the module); a joint whose reaction exceeds its break force
     or torque is switched off. Writes the broken joints' rows into `broken` and returns their number."""
+    if joints.kind.shape[0] == 0:
+        return 0
     for j in range(joints.kind.shape[0]):
         joints.reaction[j, FORCE_X] = 0.0
         joints.reaction[j, FORCE_Y] = 0.0

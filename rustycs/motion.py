@@ -30,7 +30,7 @@ def per_body_forces(bodies, forces, dt, gravity, decay):
         decay[i, 1] = math.exp(-angular[i] * dt)
 
 
-@tick_kernel
+@njit(cache=True, inline="always")
 def damp(body, bodies, decay):
     """Shrink the dynamic bodies' velocities by a tick's damping: exactly v0 exp(-c t) after t seconds."""
     body_type = bodies.body_type
@@ -76,7 +76,7 @@ def integrate_positions(body, bodies, h):
             body[i, SIN] = s * inv
 
 
-@tick_kernel
+@njit(cache=True, inline="always")
 def first_non_finite(bodies):
     """Index of the first moving body with a non-finite state, or -1."""
     x, angle, v, w = bodies.x, bodies.angle, bodies.v, bodies.w
@@ -90,7 +90,7 @@ def first_non_finite(bodies):
     return -1
 
 
-@tick_kernel
+@njit(cache=True, inline="always")
 def apply_bounds(bodies, bounds):
     """Deactivate dynamic bodies whose centre left the bounds; return how many left this tick."""
     x, v, w, body_type, active = bodies.x, bodies.v, bodies.w, bodies.body_type, bodies.active

@@ -99,11 +99,11 @@ def _collide(shapes, geometry, sa, sb, within, out):
     elif ka == CHAIN_SEGMENT:
         count = collide_chain_polygon(verts, normals, n_verts, geometry.ghosts, shapes.open_ends, sa, sb,
                                       radius[sb], within, out)
-    elif n_verts[sa] == 2 and n_verts[sb] == 2:
-        count = collide_capsules(verts, sa, radius[sa], sb, radius[sb], within, out)
     elif kb == CIRCLE:
         count = collide_polygon_circle(verts, normals, n_verts, sa, radius[sa], centroid[sb, 0],
                                        centroid[sb, 1], radius[sb], within, out)
+    elif n_verts[sa] == 2 and n_verts[sb] == 2:  # capsules and segments
+        count = collide_capsules(verts, sa, radius[sa], sb, radius[sb], within, out)
     else:
         count = collide_polygons(verts, normals, n_verts, centroid, ka == BOX and kb == BOX, sa, radius[sa],
                                  sb, radius[sb], within, out)

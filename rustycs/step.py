@@ -127,14 +127,18 @@ def substeps_and_restitution(batches, n_chunks, lanes, body, bodies, joints, joi
     positions, relax (the joints before the contacts in each pass); then restitution, when `bouncy`
     contacts have any. One compiled call with every pass inlined: a call per pass cost a quarter of the
     tick of a five-body scene."""
+    jointed = joints.kind.shape[0] > 0  # a call with the records costs a tenth of a five-body tick
     for _ in range(substeps):
         integrate_velocities(body, bodies, forces, gravity, h)
-        joints_pass(WARM, bodies, body, joints, joint_frames, joint_soft, h)
+        if jointed:
+            joints_pass(WARM, bodies, body, joints, joint_frames, joint_soft, h)
         warm_start(batches, n_chunks, lanes, body)
-        joints_pass(SOLVE, bodies, body, joints, joint_frames, joint_soft, h)
+        if jointed:
+            joints_pass(SOLVE, bodies, body, joints, joint_frames, joint_soft, h)
         solve(batches, n_chunks, lanes, body, 1.0 / h, True)
         integrate_positions(body, bodies, h)
-        joints_pass(RELAX, bodies, body, joints, joint_frames, joint_soft, h)
+        if jointed:
+            joints_pass(RELAX, bodies, body, joints, joint_frames, joint_soft, h)
         solve(batches, n_chunks, lanes, body, 1.0 / h, False)
     # a single pass would favour the first point of a two-point manifold (a flat box would bounce
     # unevenly and spin); repeated passes converge to -e times the approach speed at both
