@@ -48,6 +48,7 @@ def new_collision():
 
 @njit(cache=True, inline="always")
 def collide_circles(xa, ya, ra, xb, yb, rb, margin, out):
+    normal, points, separations, ids = out  # unpacked once: a field read per use costs
     dx = xb - xa
     dy = yb - ya
     dist = math.sqrt(dx * dx + dy * dy)
@@ -60,19 +61,20 @@ def collide_circles(xa, ya, ra, xb, yb, rb, margin, out):
     else:
         nx = 0.0
         ny = 1.0
-    out.normal[0] = nx
-    out.normal[1] = ny
+    normal[0] = nx
+    normal[1] = ny
     # midway between the two surfaces
-    out.points[0, 0] = 0.5 * ((xa + ra * nx) + (xb - rb * nx))
-    out.points[0, 1] = 0.5 * ((ya + ra * ny) + (yb - rb * ny))
-    out.separations[0] = sep
-    out.ids[0] = 0
+    points[0, 0] = 0.5 * ((xa + ra * nx) + (xb - rb * nx))
+    points[0, 1] = 0.5 * ((ya + ra * ny) + (yb - rb * ny))
+    separations[0] = sep
+    ids[0] = 0
     return 1
 
 
 @njit(cache=True, inline="always")
 def collide_polygon_circle(verts, normals, counts, i, rp, cx, cy, r, margin, out):
     """Piece i (radius rp) against a circle; the normal points from the piece to the circle."""
+    normal, points, separations, ids = out  # unpacked once: a field read per use costs
     count = counts[i]
     best = -math.inf
     edge = 0
@@ -107,12 +109,12 @@ def collide_polygon_circle(verts, normals, counts, i, rp, cx, cy, r, margin, out
         sep = best - r - rp
         ax = cx - best * nx
         ay = cy - best * ny
-    out.normal[0] = nx
-    out.normal[1] = ny
-    out.points[0, 0] = 0.5 * (ax + rp * nx + cx - r * nx)
-    out.points[0, 1] = 0.5 * (ay + rp * ny + cy - r * ny)
-    out.separations[0] = sep
-    out.ids[0] = 0
+    normal[0] = nx
+    normal[1] = ny
+    points[0, 0] = 0.5 * (ax + rp * nx + cx - r * nx)
+    points[0, 1] = 0.5 * (ay + rp * ny + cy - r * ny)
+    separations[0] = sep
+    ids[0] = 0
     return 1
 
 
@@ -190,6 +192,7 @@ def _clip_edges(r1x, r1y, r2x, r2y, nx, ny, p1x, p1y, p2x, p2y, r_ref, r_inc, ma
     reference edge r1 -> r2's side planes, and keep the points within `margin` of the reference
     surface; the normal is the reference's outward n, reversed when `flip`. Point ids are
     base | slot."""
+    normal, points, separations, ids = out  # unpacked once: a field read per use costs
     # the reference edge's direction: its outward normal turned a quarter back (counter-clockwise winding)
     tx = -ny
     ty = nx
@@ -215,23 +218,24 @@ def _clip_edges(r1x, r1y, r2x, r2y, nx, ny, p1x, p1y, p2x, p2y, r_ref, r_inc, ma
             continue
         # midway between the reference surface (r_ref out) and the incident one (r_inc in)
         shift = 0.5 * (r_ref - r_inc - core)
-        out.points[count, 0] = qx + shift * nx
-        out.points[count, 1] = qy + shift * ny
-        out.separations[count] = sep
-        out.ids[count] = base | slot
+        points[count, 0] = qx + shift * nx
+        points[count, 1] = qy + shift * ny
+        separations[count] = sep
+        ids[count] = base | slot
         count += 1
     if flip:
-        out.normal[0] = -nx
-        out.normal[1] = -ny
+        normal[0] = -nx
+        normal[1] = -ny
     else:
-        out.normal[0] = nx
-        out.normal[1] = ny
+        normal[0] = nx
+        normal[1] = ny
     return count
 
 
 @njit(cache=True, inline="always")
 def collide_polygons(verts, normals, counts, centre, boxes, a, ra, b, rb, margin, out):
     """Pieces a and b with radii ra and rb (with `boxes`, two boxes); the normal points from a to b."""
+    normal, points, separations, ids = out  # unpacked once: a field read per use costs
     radius = ra + rb
     if boxes:
         ha0, ha1 = _box_axes(verts, normals, centre, a)
@@ -267,37 +271,82 @@ def collide_polygons(verts, normals, counts, centre, boxes, a, ra, b, rb, margin
             inc = k
     inc2 = inc + 1 if inc + 1 < ic else 0
     ref2 = ref + 1 if ref + 1 < rc else 0
-    r1x, r1y, r2x, r2y = verts[r, ref, 0], verts[r, ref, 1], verts[r, ref2, 0], verts[r, ref2, 1]
-    i1x, i1y, i2x, i2y = verts[i, inc, 0], verts[i, inc, 1], verts[i, inc2, 0], verts[i, inc2, 1]
-    base = (flip << 7) | (ref << 4) | (inc << 1)
-    if radius == 0.0 or max(sep_a, sep_b) <= VERTEX_TOLERANCE:  # sharp pieces, or cores that touch
-        return _clip_edges(r1x, r1y, r2x, r2y, nx, ny, i1x, i1y, i2x, i2y, r_ref, r_inc, margin, base, flip,
-                           out)
-    # Rounded pieces with their cores apart: the closest features of the two edges may be two vertices
-    # (a capsule's end against a box's corner), which the faces' axes only bound from below. (Sharp pieces
-    # take the clipped points: the vertices' distance cost 7 % of the 600-polygon scene's narrow phase.)
-    f1, f2, gap2 = _segment_distance(r1x, r1y, r2x, r2y, i1x, i1y, i2x, i2y)
+    r1x, r1y = verts[r, ref, 0], verts[r, ref, 1]
+    r2x, r2y = verts[r, ref2, 0], verts[r, ref2, 1]
+    # the reference edge's direction: its outward normal turned a quarter back (counter-clockwise winding)
+    tx = -ny
+    ty = nx
+    p1x, p1y = verts[i, inc, 0], verts[i, inc, 1]
+    p2x, p2y = verts[i, inc2, 0], verts[i, inc2, 1]
+    # clip the incident segment to the slab between the reference edge's side planes
+    lo = r1x * tx + r1y * ty
+    hi = r2x * tx + r2y * ty
+    d1 = p1x * tx + p1y * ty
+    d2 = p2x * tx + p2y * ty
+    count = 0
+    # the incident edge runs against the reference edge, so d1 > d2 normally
+    if d1 != d2 and not ((d1 < lo and d2 < lo) or (d1 > hi and d2 > hi)):
+        q1x, q1y = _clip(p1x, p1y, p2x, p2y, d1, d2, lo, hi)
+        q2x, q2y = _clip(p2x, p2y, p1x, p1y, d2, d1, lo, hi)
+        base = (flip << 7) | (ref << 4) | (inc << 1)
+        for slot in range(2):
+            qx = q1x if slot == 0 else q2x
+            qy = q1y if slot == 0 else q2y
+            core = nx * (qx - r1x) + ny * (qy - r1y)
+            sep = core - radius
+            if sep > margin:
+                continue
+            # midway between the reference surface (r_ref out) and the incident one (r_inc in)
+            shift = 0.5 * (r_ref - r_inc - core)
+            points[count, 0] = qx + shift * nx
+            points[count, 1] = qy + shift * ny
+            separations[count] = sep
+            ids[count] = base | slot
+            count += 1
+    if flip:
+        normal[0] = -nx
+        normal[1] = -ny
+    else:
+        normal[0] = nx
+        normal[1] = ny
+    if radius > 0.0 and max(sep_a, sep_b) > VERTEX_TOLERANCE:
+        return _rounded_corners(r1x, r1y, r2x, r2y, p1x, p1y, p2x, p2y, ref, ref2, inc, inc2, r_ref, r_inc,
+                                flip, margin, count, out)
+    return count
+
+
+@njit(cache=True)
+def _rounded_corners(r1x, r1y, r2x, r2y, p1x, p1y, p2x, p2y, ref, ref2, inc, inc2, r_ref, r_inc, flip, margin,
+                     count, out):
+    """Rounded pieces whose cores are apart: the closest features of the reference and incident edges
+    may be two vertices (a capsule's end against a box's corner), which the faces' axes only bound from
+    below; then one point between those vertices replaces the clipped ones. (Not for sharp pieces: the
+    vertices' distance cost 7 % of the 600-polygon scene's narrow phase; and a call of its own, so that
+    the common pairs' loop stays small.)"""
+    normal, points, separations, ids = out  # unpacked once: a field read per use costs
+    radius = r_ref + r_inc
+    f1, f2, gap2 = _segment_distance(r1x, r1y, r2x, r2y, p1x, p1y, p2x, p2y)
     gap = math.sqrt(gap2)
     if gap - radius > margin:
         return 0
-    count = _clip_edges(r1x, r1y, r2x, r2y, nx, ny, i1x, i1y, i2x, i2y, r_ref, r_inc, margin, base, flip, out)
     closest = math.inf
     for k in range(count):
-        closest = min(closest, out.separations[k])
-    if (f1 == 0.0 or f1 == 1.0) and (f2 == 0.0 or f2 == 1.0) and gap - radius + VERTEX_TOLERANCE < closest:
-        vx, vy = (r1x, r1y) if f1 == 0.0 else (r2x, r2y)
-        wx, wy = (i1x, i1y) if f2 == 0.0 else (i2x, i2y)
-        ux, uy = (wx - vx) / gap, (wy - vy) / gap  # from the reference vertex to the incident one
-        out.normal[0], out.normal[1] = (-ux, -uy) if flip else (ux, uy)
-        out.points[0, 0] = 0.5 * (vx + r_ref * ux + wx - r_inc * ux)
-        out.points[0, 1] = 0.5 * (vy + r_ref * uy + wy - r_inc * uy)
-        out.separations[0] = gap - radius
-        # a vertex pair's id: both vertices' indices, and a bit that no clipped point sets
-        vertex_a = ref if f1 == 0.0 else ref2
-        vertex_b = inc if f2 == 0.0 else inc2
-        out.ids[0] = (flip << 7) | (1 << 6) | (vertex_a << 3) | vertex_b
-        return 1
-    return count
+        closest = min(closest, separations[k])
+    at_vertices = (f1 == 0.0 or f1 == 1.0) and (f2 == 0.0 or f2 == 1.0)
+    if not (at_vertices and gap - radius + VERTEX_TOLERANCE < closest):
+        return count
+    vx, vy = (r1x, r1y) if f1 == 0.0 else (r2x, r2y)
+    wx, wy = (p1x, p1y) if f2 == 0.0 else (p2x, p2y)
+    ux, uy = (wx - vx) / gap, (wy - vy) / gap  # from the reference vertex to the incident one
+    normal[0], normal[1] = (-ux, -uy) if flip else (ux, uy)
+    points[0, 0] = 0.5 * (vx + r_ref * ux + wx - r_inc * ux)
+    points[0, 1] = 0.5 * (vy + r_ref * uy + wy - r_inc * uy)
+    separations[0] = gap - radius
+    # a vertex pair's id: both vertices' indices, and a bit the clipped points' ids set only on edge 4 up
+    vertex_a = ref if f1 == 0.0 else ref2
+    vertex_b = inc if f2 == 0.0 else inc2
+    ids[0] = (flip << 7) | (1 << 6) | (vertex_a << 3) | vertex_b
+    return 1
 
 
 @njit(cache=True, inline="always")
@@ -306,6 +355,7 @@ def collide_capsules(verts, a, ra, b, rb, margin, out):
     alone miss the ends, so the closest points of the segments decide. Where their projections overlap,
     the reference segment's face (the side of greater separation) clips the other to two points, as a
     capsule resting on another needs; otherwise one point between the closest points."""
+    normal, points, separations, ids = out  # unpacked once: a field read per use costs
     p1x, p1y, q1x, q1y = verts[a, 0, 0], verts[a, 0, 1], verts[a, 1, 0], verts[a, 1, 1]
     p2x, p2y, q2x, q2y = verts[b, 0, 0], verts[b, 0, 1], verts[b, 1, 0], verts[b, 1, 1]
     radius = ra + rb
@@ -353,12 +403,12 @@ def collide_capsules(verts, a, ra, b, rb, margin, out):
             if core - radius > margin:
                 continue
             shift = 0.5 * (r_ref - r_inc - core)
-            out.points[count, 0] = cx + shift * nx
-            out.points[count, 1] = cy + shift * ny
-            out.separations[count] = core - radius
-            out.ids[count] = (flip << 7) | (1 << 5) | slot
+            points[count, 0] = cx + shift * nx
+            points[count, 1] = cy + shift * ny
+            separations[count] = core - radius
+            ids[count] = (flip << 7) | (1 << 5) | slot
             count += 1
-        out.normal[0], out.normal[1] = (-nx, -ny) if flip else (nx, ny)
+        normal[0], normal[1] = (-nx, -ny) if flip else (nx, ny)
     if count:
         return count
     # one point between the closest points
@@ -369,11 +419,11 @@ def collide_capsules(verts, a, ra, b, rb, margin, out):
     else:
         length = math.sqrt((q1x - p1x) ** 2 + (q1y - p1y) ** 2)
         nx, ny = -(q1y - p1y) / length, (q1x - p1x) / length
-    out.normal[0], out.normal[1] = nx, ny
-    out.points[0, 0] = 0.5 * (cx1 + ra * nx + cx2 - rb * nx)
-    out.points[0, 1] = 0.5 * (cy1 + ra * ny + cy2 - rb * ny)
-    out.separations[0] = gap - radius
-    out.ids[0] = (int(f1 > 0.0) << 1) | int(f2 > 0.0)
+    normal[0], normal[1] = nx, ny
+    points[0, 0] = 0.5 * (cx1 + ra * nx + cx2 - rb * nx)
+    points[0, 1] = 0.5 * (cy1 + ra * ny + cy2 - rb * ny)
+    separations[0] = gap - radius
+    ids[0] = (int(f1 > 0.0) << 1) | int(f2 > 0.0)
     return 1
 
 
@@ -429,6 +479,7 @@ def collide_chain_circle(verts, normals, ghosts, open_ends, c, cx, cy, r, margin
     """Chain segment c against a circle; the normal points from the segment to the circle. The joint
     with the previous segment belongs to that segment, and a centre over the next segment's face is
     the next segment's."""
+    normal, points, separations, ids = out  # unpacked once: a field read per use costs
     offset = normals[c, 0, 0] * (cx - verts[c, 0, 0]) + normals[c, 0, 1] * (cy - verts[c, 0, 1])
     flip = 1 if offset < 0.0 else 0
     p1x, p1y, p2x, p2y, _, _, g2x, g2y, ends, fnx, fny = _chain_side(verts, normals, ghosts, open_ends, c,
@@ -459,12 +510,12 @@ def collide_chain_circle(verts, normals, ghosts, open_ends, c, cx, cy, r, margin
         ny = dy / dist
     else:
         nx, ny = fnx, fny
-    out.normal[0] = nx
-    out.normal[1] = ny
-    out.points[0, 0] = 0.5 * (ax + cx - r * nx)
-    out.points[0, 1] = 0.5 * (ay + cy - r * ny)
-    out.separations[0] = sep
-    out.ids[0] = (flip << 7) | feature
+    normal[0] = nx
+    normal[1] = ny
+    points[0, 0] = 0.5 * (ax + cx - r * nx)
+    points[0, 1] = 0.5 * (ay + cy - r * ny)
+    separations[0] = sep
+    ids[0] = (flip << 7) | feature
     return 1
 
 

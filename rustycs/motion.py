@@ -19,13 +19,11 @@ from rustycs.tick_kernel import tick_kernel
 
 
 @tick_kernel
-def per_body_forces(bodies, forces, dt, gravity, decay):
-    """Once per block of ticks: each body's share of the world force (times its gravity scale) and the
-    factors exp(-c dt) by which damping shrinks its velocities in a tick (linear, angular)."""
-    scale, linear, angular = bodies.gravity_scale, bodies.linear_damping, bodies.angular_damping
-    for i in range(scale.shape[0]):
-        gravity[i, 0] = scale[i] * forces.gravity[0]
-        gravity[i, 1] = scale[i] * forces.gravity[1]
+def damping_factors(bodies, dt, decay):
+    """Once per block of ticks: the factors exp(-c dt) by which damping shrinks each body's velocities in
+    a tick (linear, angular)."""
+    linear, angular = bodies.linear_damping, bodies.angular_damping
+    for i in range(linear.shape[0]):
         decay[i, 0] = math.exp(-linear[i] * dt)
         decay[i, 1] = math.exp(-angular[i] * dt)
 
@@ -42,14 +40,15 @@ def damp(body, bodies, decay):
 
 
 @njit(cache=True, inline="always")
-def integrate_velocities(body, bodies, forces, gravity, h):
-    x, body_type, active = bodies.x, bodies.body_type, bodies.active
+def integrate_velocities(body, bodies, forces, h):
+    x, body_type, active, scale = bodies.x, bodies.body_type, bodies.active, bodies.gravity_scale
+    gx, gy = forces.gravity[0], forces.gravity[1]
     for i in range(x.shape[0]):
         if body_type[i] != DYNAMIC or not active[i]:
             continue
         ax, ay = attraction(x[i, 0], x[i, 1], forces)
-        body[i, VX] += h * (gravity[i, 0] + ax)
-        body[i, VY] += h * (gravity[i, 1] + ay)
+        body[i, VX] += h * (scale[i] * gx + ax)
+        body[i, VY] += h * (scale[i] * gy + ay)
 
 
 @njit(cache=True, inline="always")

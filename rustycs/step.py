@@ -20,7 +20,7 @@ from rustycs.constants import (
     CONTACT_DAMPING_RATIO,
     CONTACT_HERTZ,
     JOINT_DAMPING_RATIO,
-    JOINT_HERTZ,
+    JOINT_STIFFNESS,
     SPECULATIVE_DISTANCE,
 )
 from rustycs.contact_batches import Batches, new_batches, schedule
@@ -44,10 +44,10 @@ from rustycs.joint_solver import FRAME_COLUMNS, RELAX, SOLVE, WARM, break_joints
 from rustycs.motion import (
     apply_bounds,
     damp,
+    damping_factors,
     first_non_finite,
     integrate_positions,
     integrate_velocities,
-    per_body_forces,
 )
 from rustycs.narrow_phase import Contacts, narrow_phase, new_contacts
 from rustycs.recording import record_frame
@@ -74,7 +74,6 @@ class Workspace(NamedTuple):
     body: np.ndarray  # (N, BODY_COLUMNS) the solver's rows of the bodies
     batches: Batches
     lanes: np.ndarray  # the solver's lanes of the scheduled contacts
-    gravity: np.ndarray  # (N, 2) per body the world force times its gravity scale
     decay: np.ndarray  # (N, 2) per body the damping factors of a tick, linear and angular
     joint_frames: np.ndarray  # (J, FRAME_COLUMNS) the joints' anchors and springs of the tick
     broken: np.ndarray  # (J,) int64 scratch: the joints that broke in a tick
@@ -92,7 +91,7 @@ def new_workspace(n_bodies, n_shapes, n_joints, max_vertices, c_key, c_jn, c_jt)
     return Workspace(new_geometry(n_bodies, n_shapes, max_vertices), pairs, new_contacts(capacity),
                      new_cache(2 * capacity, c_key, c_jn, c_jt), np.empty((n_bodies, BODY_COLUMNS)),
                      new_batches(n_bodies, capacity), np.empty(capacity * LANE_FIELDS),
-                     np.zeros((n_bodies, 2)), np.ones((n_bodies, 2)), np.zeros((n_joints, FRAME_COLUMNS)),
+                     np.ones((n_bodies, 2)), np.zeros((n_joints, FRAME_COLUMNS)),
                      np.zeros(n_joints, np.int64), new_events(n_joints + n_bodies + 16), np.zeros(1,
                                                                                                   np.bool_))
 
@@ -116,20 +115,20 @@ def grown(ws, n_bodies, cells, pairs, points, chunks):
     lanes = ws.lanes
     if chunks * LANES * LANE_FIELDS > lanes.shape[0]:
         lanes = np.empty(2 * chunks * LANES * LANE_FIELDS)
-    return Workspace(ws.geometry, p, contacts, cache, ws.body, batches, lanes, ws.gravity, ws.decay,
+    return Workspace(ws.geometry, p, contacts, cache, ws.body, batches, lanes, ws.decay,
                      ws.joint_frames, ws.broken, ws.events, ws.statics_placed)
 
 
 @tick_kernel
 def substeps_and_restitution(batches, n_chunks, lanes, body, bodies, joints, joint_frames, joint_soft, forces,
-                             gravity, h, substeps, threshold, bouncy):
+                             h, substeps, threshold, bouncy):
     """The solver's substeps: integrate velocities, warm start, solve with the soft bias, integrate
     positions, relax (the joints before the contacts in each pass); then restitution, when `bouncy`
     contacts have any. One compiled call with every pass inlined: a call per pass cost a quarter of the
     tick of a five-body scene."""
     jointed = joints.kind.shape[0] > 0  # a call with the records costs a tenth of a five-body tick
     for _ in range(substeps):
-        integrate_velocities(body, bodies, forces, gravity, h)
+        integrate_velocities(body, bodies, forces, h)
         if jointed:
             joints_pass(WARM, bodies, body, joints, joint_frames, joint_soft, h)
         warm_start(batches, n_chunks, lanes, body)
@@ -166,10 +165,10 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
     soft = softness(contact_hertz, CONTACT_DAMPING_RATIO, h)
     # contacts against an immovable body are stiffer: only one side gives way
     stiff = softness(2.0 * contact_hertz, CONTACT_DAMPING_RATIO, h)
-    joint_soft = softness(min(JOINT_HERTZ, 0.25 / h), JOINT_DAMPING_RATIO, h)
-    (geometry, pairs, contacts, cache, body, batches, lanes, gravity, decay, joint_frames, broken, events,
+    joint_soft = softness(JOINT_STIFFNESS / h, JOINT_DAMPING_RATIO, h)
+    (geometry, pairs, contacts, cache, body, batches, lanes, decay, joint_frames, broken, events,
      statics_placed) = ws
-    per_body_forces(bodies, forces, dt, gravity, decay)
+    damping_factors(bodies, dt, decay)
     while status[TICKS_DONE] < n_ticks:
         bad = first_non_finite(bodies)
         if bad >= 0:  # set from outside between blocks: report it before it spreads
@@ -202,8 +201,7 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
             return
         bouncy = prepare(batches, n_chunks, contacts.manifolds, contacts.points, body, soft, stiff, lanes)
         substeps_and_restitution(batches, n_chunks, lanes, body, bodies, joints, joint_frames, joint_soft,
-                                 forces, gravity, h, settings.substeps, settings.restitution_threshold,
-                                 bouncy)
+                                 forces, h, settings.substeps, settings.restitution_threshold, bouncy)
         store_impulses(batches, n_chunks, contacts.manifolds, lanes, contacts.points)
         store_bodies(body, bodies)
         remember(contacts.points, n_pts, cache)
