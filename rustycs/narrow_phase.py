@@ -4,8 +4,9 @@ order, as the contact solver takes them.
 A manifold names its two shapes and their bodies (the normal points from shape a to shape b) and holds
 the mixed friction and restitution (the means of the two shapes' materials, the thesis's rule). A
 point holds its key (the pair's key and the feature id: what warm starting matches), its world
-position, and its solver row: the anchors from both centres of mass, the separation and the
-accumulated impulses (zero here; the warm start fills them in).
+position (midway between the surfaces), and its solver row: the anchors from both centres of mass (each on
+its own body's surface), the separation and the accumulated impulses (zero here; the warm start fills
+them in).
 """
 
 from __future__ import annotations
@@ -154,14 +155,19 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, contacts)
         for j in range(count):
             src = 1 - j if swap else j
             px, py = out.points[src, 0], out.points[src, 1]
+            sep = out.separations[src]
             p_key[n_pts] = (pair_keys[k] << FEATURE_BITS) | out.ids[src]
             p_position[n_pts, 0] = px
             p_position[n_pts, 1] = py
-            p_data[n_pts, RAX] = px - x[a, 0]
-            p_data[n_pts, RAY] = py - x[a, 1]
-            p_data[n_pts, RBX] = px - x[b, 0]
-            p_data[n_pts, RBY] = py - x[b, 1]
-            p_data[n_pts, SEPARATION] = out.separations[src]
+            # each anchor on its own body's surface, half the gap from the midpoint: where the bodies
+            # will meet, so that friction turns them about their true points of contact
+            hx = 0.5 * sep * out.normal[0]
+            hy = 0.5 * sep * out.normal[1]
+            p_data[n_pts, RAX] = px - hx - x[a, 0]
+            p_data[n_pts, RAY] = py - hy - x[a, 1]
+            p_data[n_pts, RBX] = px + hx - x[b, 0]
+            p_data[n_pts, RBY] = py + hy - x[b, 1]
+            p_data[n_pts, SEPARATION] = sep
             p_data[n_pts, NORMAL_IMPULSE] = 0.0
             p_data[n_pts, TANGENT_IMPULSE] = 0.0
             n_pts += 1
