@@ -19,3 +19,5 @@ JOINT_DAMPING_RATIO = 1.0  # of a rigid joint's position correction
 MAX_PUSH_SPEED = 3.0  # m/s: the fastest speed at which overlap is pushed apart (Box2D's contactSpeed)
 # sine: a chain joint turning less is flat; a normal this near a neighbour segment's is that one's (Box2D)
 CHAIN_ANGLE_TOLERANCE = 0.01
+BOUNCE_PASSES = 512  # passes of the impact sequence at most (a cradle of n balls hit from its end: n - 1)
+BOUNCE_SPEED_TOLERANCE = 1e-6  # m/s: slower approaches are no impact

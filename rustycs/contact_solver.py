@@ -51,15 +51,15 @@ BODY_COLUMNS = 9
 # then what each pass gathers from the bodies (velocities, the approach of the centres along the
 # normal and the rotations since the narrow phase).
 LANES = 8
-(L_MA, L_IA, L_MB, L_IB, L_NX, L_NY, L_MU, L_E, L_RATE, L_MASS_SCALE, L_IMPULSE_SCALE,
- L_VAX, L_VAY, L_WA, L_VBX, L_VBY, L_WB, L_DN, L_CA, L_SA, L_CB, L_SB) = (
+(L_MA, L_IA, L_MB, L_IB, L_NX, L_NY, L_MU, L_E, L_RATE, L_MASS_SCALE, L_IMPULSE_SCALE, L_VAX, L_VAY, L_WA,
+ L_VBX, L_VBY, L_WB, L_DN, L_CA, L_SA, L_CB, L_SB) = (
     np.uint64(f * LANES) for f in range(22))
 CONTACT_FIELDS = 22
 # a point's fields, from its first: the anchors' cross products with the normal and the tangent and
 # dot products with the normal, the separation less the anchors' projection, effective masses,
-# accumulated and largest normal impulses, the approach speed before solving
+# accumulated and largest normal impulses, the normal speed it should leave at (`bounce_targets`)
 (P_RNA, P_RNB, P_RTA, P_RTB, P_RDA, P_RDB, P_SEPARATION, P_NORMAL_MASS, P_TANGENT_MASS, P_NORMAL_IMPULSE,
- P_TANGENT_IMPULSE, P_MAX_NORMAL_IMPULSE, P_RELATIVE_VELOCITY) = (np.uint64(f * LANES) for f in range(13))
+ P_TANGENT_IMPULSE, P_MAX_NORMAL_IMPULSE, P_BOUNCE) = (np.uint64(f * LANES) for f in range(13))
 POINT_FIELDS = 13
 LANE_FIELDS = CONTACT_FIELDS + 2 * POINT_FIELDS
 _CHUNK = np.uint64(LANE_FIELDS * LANES)
@@ -78,13 +78,13 @@ def softness(hertz, zeta, h):
 
 
 @njit(cache=True, inline="always")
-def _lane(c, j):
+def lane_index(c, j):
     """Index of field 0 of lane j of chunk c."""
     return np.uint64(c) * _CHUNK + np.uint64(j)
 
 
 @njit(cache=True, inline="always")
-def _point(o, k):
+def point_index(o, k):
     """Index of field 0 of point k of the contact whose lane index is o."""
     return o + _FIRST_POINT + np.uint64(k) * _POINT_STRIDE
 
@@ -97,17 +97,10 @@ def _zero(lanes, start, fields):
 
 
 @njit(cache=True, inline="always")
-def _approach(vax, vay, wa, vbx, vby, wb, nx, ny, rna, rnb):
+def relative_speed(vax, vay, wa, vbx, vby, wb, nx, ny, rna, rnb):
     """Speed of b's contact point relative to a's along the normal (n), or along the tangent when given
     the tangent and the anchors' cross products with it: (vb + wb x rb - va - wa x ra) . n."""
     return (vbx - vax) * nx + (vby - vay) * ny + (wb * rnb - wa * rna)
-
-
-@njit(cache=True, inline="always")
-def _bodies_approach(body, a, b, nx, ny, rna, rnb):
-    """`_approach` with the velocities in the body rows."""
-    return _approach(body[a, VX], body[a, VY], body[a, W], body[b, VX], body[b, VY], body[b, W], nx, ny, rna,
-                     rnb)
 
 
 @njit(cache=True, inline="always")
@@ -154,9 +147,9 @@ def prepare(batches, n_chunks, manifolds, points, body, soft, stiff, lanes):
     bouncy = 0
     for c in range(n_chunks):
         for j in range(fill[c], LANES):
-            _zero(lanes, _lane(c, j), LANE_FIELDS)
+            _zero(lanes, lane_index(c, j), LANE_FIELDS)
         for j in range(fill[c]):
-            o = _lane(c, j)
+            o = lane_index(c, j)
             m = slot_manifold[c * LANES + j]
             a = m_a[m]
             b = m_b[m]
@@ -181,7 +174,7 @@ def prepare(batches, n_chunks, manifolds, points, body, soft, stiff, lanes):
             lanes[o + L_DN] = 0.0
             lanes[o + L_CA], lanes[o + L_SA], lanes[o + L_CB], lanes[o + L_SB] = 1.0, 0.0, 1.0, 0.0
             for k in range(m_count[m]):
-                q = _point(o, k)
+                q = point_index(o, k)
                 p = m_first[m] + k
                 rax, ray, rbx, rby = point[p, RAX], point[p, RAY], point[p, RBX], point[p, RBY]
                 rna = rax * ny - ray * nx
@@ -201,12 +194,11 @@ def prepare(batches, n_chunks, manifolds, points, body, soft, stiff, lanes):
                 lanes[q + P_NORMAL_MASS] = 1.0 / kn if kn > 0.0 else 0.0
                 lanes[q + P_TANGENT_MASS] = 1.0 / kt if kt > 0.0 else 0.0
                 lanes[q + P_SEPARATION] = point[p, SEPARATION] - (rdb - rda)
-                lanes[q + P_RELATIVE_VELOCITY] = _bodies_approach(body, a, b, nx, ny, rna, rnb)
                 lanes[q + P_NORMAL_IMPULSE] = point[p, NORMAL_IMPULSE]
                 lanes[q + P_TANGENT_IMPULSE] = point[p, TANGENT_IMPULSE]
                 lanes[q + P_MAX_NORMAL_IMPULSE] = 0.0
             if m_count[m] == 1:
-                _zero(lanes, _point(o, 1), POINT_FIELDS)
+                _zero(lanes, point_index(o, 1), POINT_FIELDS)
     return bouncy
 
 
@@ -219,7 +211,7 @@ def store_impulses(batches, n_chunks, manifolds, lanes, points):
         for j in range(fill[c]):
             m = slot_manifold[c * LANES + j]
             for k in range(m_count[m]):
-                q = _point(_lane(c, j), k)
+                q = point_index(lane_index(c, j), k)
                 point[m_first[m] + k, NORMAL_IMPULSE] = lanes[q + P_NORMAL_IMPULSE]
                 point[m_first[m] + k, TANGENT_IMPULSE] = lanes[q + P_TANGENT_IMPULSE]
 
@@ -230,7 +222,7 @@ def _gather(batches, c, body, lanes, poses):
     centres along the normal and the rotations since the narrow phase. Empty lanes keep their zeros."""
     fill, slot_a, slot_b = batches.fill, batches.slot_a, batches.slot_b
     for j in range(fill[c]):
-        o = _lane(c, j)
+        o = lane_index(c, j)
         a = slot_a[c * LANES + j]
         b = slot_b[c * LANES + j]
         lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA] = body[a, VX], body[a, VY], body[a, W]
@@ -248,7 +240,7 @@ def _scatter(batches, c, lanes, body):
     share those, and they are never written, so that no contact waits for another through them."""
     fill, slot_a, slot_b = batches.fill, batches.slot_a, batches.slot_b
     for j in range(fill[c]):
-        o = _lane(c, j)
+        o = lane_index(c, j)
         a = slot_a[c * LANES + j]
         b = slot_b[c * LANES + j]
         if body[a, INV_MASS] != 0.0 or body[a, INV_INERTIA] != 0.0:
@@ -260,13 +252,13 @@ def _scatter(batches, c, lanes, body):
 @njit(cache=True, inline="always")
 def _warm_start_lanes(c, lanes, points):
     for j in range(LANES):
-        o = _lane(c, j)
+        o = lane_index(c, j)
         ma, ia, mb, ib = lanes[o + L_MA], lanes[o + L_IA], lanes[o + L_MB], lanes[o + L_IB]
         vax, vay, wa = lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA]
         vbx, vby, wb = lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB]
         nx, ny = lanes[o + L_NX], lanes[o + L_NY]
         for k in range(points):
-            q = _point(o, k)
+            q = point_index(o, k)
             jn = lanes[q + P_NORMAL_IMPULSE]
             jt = lanes[q + P_TANGENT_IMPULSE]
             px = jn * nx + jt * ny
@@ -297,7 +289,7 @@ def warm_start(batches, n_chunks, lanes, body):
 @njit(cache=True, inline="always")
 def _solve_lanes(c, lanes, inv_h, use_bias, points):
     for j in range(LANES):
-        o = _lane(c, j)
+        o = lane_index(c, j)
         ma, ia, mb, ib = lanes[o + L_MA], lanes[o + L_IA], lanes[o + L_MB], lanes[o + L_IB]
         vax, vay, wa = lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA]
         vbx, vby, wb = lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB]
@@ -306,7 +298,7 @@ def _solve_lanes(c, lanes, inv_h, use_bias, points):
         dn = lanes[o + L_DN]
         ca, sa, cb, sb = lanes[o + L_CA], lanes[o + L_SA], lanes[o + L_CB], lanes[o + L_SB]
         for k in range(points):
-            q = _point(o, k)
+            q = point_index(o, k)
             rna, rnb = lanes[q + P_RNA], lanes[q + P_RNB]
             # current separation: the anchors turned by each body's rotation since the narrow phase,
             # projected on the normal through their precomputed dot and cross products
@@ -321,7 +313,7 @@ def _solve_lanes(c, lanes, inv_h, use_bias, points):
                 bias = max(rate * s, -MAX_PUSH_SPEED)
                 mass_scale = mscale
                 impulse_scale = iscale
-            vn = _approach(vax, vay, wa, vbx, vby, wb, nx, ny, rna, rnb)
+            vn = relative_speed(vax, vay, wa, vbx, vby, wb, nx, ny, rna, rnb)
             old = lanes[q + P_NORMAL_IMPULSE]
             total = max(old - lanes[q + P_NORMAL_MASS] * mass_scale * (vn + bias) - impulse_scale * old, 0.0)
             impulse = total - old
@@ -336,9 +328,9 @@ def _solve_lanes(c, lanes, inv_h, use_bias, points):
         tx, ty = ny, -nx
         mu = lanes[o + L_MU]
         for k in range(points):
-            q = _point(o, k)
+            q = point_index(o, k)
             rta, rtb = lanes[q + P_RTA], lanes[q + P_RTB]
-            vt = _approach(vax, vay, wa, vbx, vby, wb, tx, ty, rta, rtb)
+            vt = relative_speed(vax, vay, wa, vbx, vby, wb, tx, ty, rta, rtb)
             limit = mu * lanes[q + P_NORMAL_IMPULSE]
             old = lanes[q + P_TANGENT_IMPULSE]
             total = min(max(old - lanes[q + P_TANGENT_MASS] * vt, -limit), limit)
@@ -369,38 +361,3 @@ def solve(batches, n_chunks, lanes, body, inv_h, use_bias):
         else:
             _solve_lanes(c, lanes, inv_h, use_bias, 1)
         _scatter(batches, c, lanes, body)
-
-
-@njit(cache=True, inline="always")
-def restitute(batches, n_chunks, lanes, body, threshold):
-    """Bounce: set the normal speed to -e times the approach speed measured before solving. Few
-    contacts bounce, so this pass works lane by lane on the body rows."""
-    fill, slot_a, slot_b = batches.fill, batches.slot_a, batches.slot_b
-    for c in range(n_chunks):
-        for j in range(fill[c]):
-            o = _lane(c, j)
-            e = lanes[o + L_E]
-            if e == 0.0:
-                continue
-            a = slot_a[c * LANES + j]
-            b = slot_b[c * LANES + j]
-            ma, ia, mb, ib = lanes[o + L_MA], lanes[o + L_IA], lanes[o + L_MB], lanes[o + L_IB]
-            nx, ny = lanes[o + L_NX], lanes[o + L_NY]
-            for k in range(2):
-                q = _point(o, k)
-                approach = lanes[q + P_RELATIVE_VELOCITY]
-                if approach > -threshold or lanes[q + P_MAX_NORMAL_IMPULSE] == 0.0:
-                    continue
-                rna, rnb = lanes[q + P_RNA], lanes[q + P_RNB]
-                vn = _bodies_approach(body, a, b, nx, ny, rna, rnb)
-                old = lanes[q + P_NORMAL_IMPULSE]
-                total = max(old - lanes[q + P_NORMAL_MASS] * (vn + e * approach), 0.0)
-                impulse = total - old
-                lanes[q + P_NORMAL_IMPULSE] = total
-                lanes[q + P_MAX_NORMAL_IMPULSE] = max(lanes[q + P_MAX_NORMAL_IMPULSE], impulse)
-                body[a, VX] -= ma * nx * impulse
-                body[a, VY] -= ma * ny * impulse
-                body[a, W] -= ia * rna * impulse
-                body[b, VX] += mb * nx * impulse
-                body[b, VY] += mb * ny * impulse
-                body[b, W] += ib * rnb * impulse

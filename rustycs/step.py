@@ -31,7 +31,6 @@ from rustycs.contact_solver import (
     LANES,
     load_bodies,
     prepare,
-    restitute,
     softness,
     solve,
     store_bodies,
@@ -40,6 +39,7 @@ from rustycs.contact_solver import (
 )
 from rustycs.events import JOINT_BREAK, Events, new_events, record_event
 from rustycs.geometry import Geometry, new_geometry, update_geometry
+from rustycs.impacts import keep_velocities, resolve_impacts
 from rustycs.joint_solver import FRAME_COLUMNS, RELAX, SOLVE, WARM, break_joints, joints_pass, prepare_joints
 from rustycs.motion import (
     apply_bounds,
@@ -75,6 +75,7 @@ class Workspace(NamedTuple):
     batches: Batches
     lanes: np.ndarray  # the solver's lanes of the scheduled contacts
     decay: np.ndarray  # (N, 2) per body the damping factors of a tick, linear and angular
+    bounce_velocity: np.ndarray  # (N, BODY_COLUMNS) the solver rows before the soft step (impacts)
     joint_frames: np.ndarray  # (J, FRAME_COLUMNS) the joints' anchors and springs of the tick
     broken: np.ndarray  # (J,) int64 scratch: the joints that broke in a tick
     events: Events
@@ -91,7 +92,8 @@ def new_workspace(n_bodies, n_shapes, n_joints, max_vertices, c_key, c_jn, c_jt)
     return Workspace(new_geometry(n_bodies, n_shapes, max_vertices), pairs, new_contacts(capacity),
                      new_cache(2 * capacity, c_key, c_jn, c_jt), np.empty((n_bodies, BODY_COLUMNS)),
                      new_batches(n_bodies, capacity), np.empty(capacity * LANE_FIELDS),
-                     np.ones((n_bodies, 2)), np.zeros((n_joints, FRAME_COLUMNS)),
+                     np.ones((n_bodies, 2)), np.zeros((n_bodies, BODY_COLUMNS)), np.zeros((n_joints,
+                                                                                           FRAME_COLUMNS)),
                      np.zeros(n_joints, np.int64), new_events(n_joints + n_bodies + 16), np.zeros(1,
                                                                                                   np.bool_))
 
@@ -115,19 +117,17 @@ def grown(ws, n_bodies, cells, pairs, points, chunks):
     lanes = ws.lanes
     if chunks * LANES * LANE_FIELDS > lanes.shape[0]:
         lanes = np.empty(2 * chunks * LANES * LANE_FIELDS)
-    return Workspace(ws.geometry, p, contacts, cache, ws.body, batches, lanes, ws.decay,
+    return Workspace(ws.geometry, p, contacts, cache, ws.body, batches, lanes, ws.decay, ws.bounce_velocity,
                      ws.joint_frames, ws.broken, ws.events, ws.statics_placed)
 
 
 @tick_kernel
-def substeps_and_restitution(batches, n_chunks, lanes, body, bodies, joints, joint_frames, joint_soft, forces,
-                             h, substeps, threshold, bouncy):
+def substeps(batches, n_chunks, lanes, body, bodies, joints, joint_frames, joint_soft, forces, h, count):
     """The solver's substeps: integrate velocities, warm start, solve with the soft bias, integrate
-    positions, relax (the joints before the contacts in each pass); then restitution, when `bouncy`
-    contacts have any. One compiled call with every pass inlined: a call per pass cost a quarter of the
-    tick of a five-body scene."""
+    positions, relax (the joints before the contacts in each pass). One compiled call with every pass
+    inlined: a call per pass cost a quarter of the tick of a five-body scene."""
     jointed = joints.kind.shape[0] > 0  # a call with the records costs a tenth of a five-body tick
-    for _ in range(substeps):
+    for _ in range(count):
         integrate_velocities(body, bodies, forces, h)
         if jointed:
             joints_pass(WARM, bodies, body, joints, joint_frames, joint_soft, h)
@@ -139,10 +139,6 @@ def substeps_and_restitution(batches, n_chunks, lanes, body, bodies, joints, joi
         if jointed:
             joints_pass(RELAX, bodies, body, joints, joint_frames, joint_soft, h)
         solve(batches, n_chunks, lanes, body, 1.0 / h, False)
-    # a single pass would favour the first point of a two-point manifold (a flat box would bounce
-    # unevenly and spin); repeated passes converge to -e times the approach speed at both
-    for _ in range(substeps if bouncy > 0 else 0):
-        restitute(batches, n_chunks, lanes, body, threshold)
 
 
 # entries of a block's status (`run_ticks`): ticks done, frames recorded, bodies that left the bounds,
@@ -166,7 +162,8 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
     # contacts against an immovable body are stiffer: only one side gives way
     stiff = softness(2.0 * contact_hertz, CONTACT_DAMPING_RATIO, h)
     joint_soft = softness(JOINT_STIFFNESS / h, JOINT_DAMPING_RATIO, h)
-    (geometry, pairs, contacts, cache, body, batches, lanes, decay, joint_frames, broken, events,
+    (geometry, pairs, contacts, cache, body, batches, lanes, decay, bounce_velocity, joint_frames, broken,
+     events,
      statics_placed) = ws
     damping_factors(bodies, dt, decay)
     while status[TICKS_DONE] < n_ticks:
@@ -200,9 +197,13 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
             status[NEED_CHUNKS] = n_chunks
             return
         bouncy = prepare(batches, n_chunks, contacts.manifolds, contacts.points, body, soft, stiff, lanes)
-        substeps_and_restitution(batches, n_chunks, lanes, body, bodies, joints, joint_frames, joint_soft,
-                                 forces, h, settings.substeps, settings.restitution_threshold, bouncy)
+        if bouncy > 0:
+            keep_velocities(body, bounce_velocity)
+        substeps(batches, n_chunks, lanes, body, bodies, joints, joint_frames, joint_soft, forces, h,
+                 settings.substeps)
         store_impulses(batches, n_chunks, contacts.manifolds, lanes, contacts.points)
+        if bouncy > 0:
+            resolve_impacts(batches, n_chunks, lanes, body, bounce_velocity, settings.restitution_threshold)
         store_bodies(body, bodies)
         remember(contacts.points, n_pts, cache)
         tick = first_tick + status[TICKS_DONE] + 1
