@@ -28,7 +28,7 @@ class Geometry(NamedTuple):
     centroid: np.ndarray  # (S, 2): a circle's centre
     ghosts: np.ndarray  # (S, 2, 2) chain segments only
     hitbox: np.ndarray  # (S, 4) xmin, ymin, xmax, ymax, grown by the body's reach
-    reach: np.ndarray  # (N,) m: speculative distance plus one tick of travel
+    reach: np.ndarray  # (N,) m: speculative distance plus one tick of travel of its cores
 
 
 @njit(cache=True)
@@ -44,20 +44,46 @@ def _turn(px, py, c, s, local, out, k):
     out[k, 1] = py + s * local[k, 0] + c * local[k, 1]
 
 
+@njit(cache=True, inline="always")
+def place_piece(shapes, j, px, py, c, s, geometry, row):
+    """Place shape row j of a body whose centre of mass is at (px, py), turned by the angle of cosine c
+    and sine s, into row `row` of `geometry` (vertices, normals, centroid, chain ghosts); returns the
+    box of its core (xmin, ymin, xmax, ymax), which holds the centroid (a circle's core is its centre)."""
+    local_verts, local_normals, local_centroid = shapes.vertices, shapes.normals, shapes.centroid
+    verts, normals, centroid, ghosts = geometry.vertices, geometry.normals, geometry.centroid, geometry.ghosts
+    centroid[row, 0] = px + c * local_centroid[j, 0] - s * local_centroid[j, 1]
+    centroid[row, 1] = py + s * local_centroid[j, 0] + c * local_centroid[j, 1]
+    lo_x = hi_x = centroid[row, 0]
+    lo_y = hi_y = centroid[row, 1]
+    for k in range(shapes.count[j]):
+        _turn(px, py, c, s, local_verts[j], verts[row], k)
+        nx, ny = local_normals[j, k, 0], local_normals[j, k, 1]
+        normals[row, k, 0] = c * nx - s * ny
+        normals[row, k, 1] = s * nx + c * ny
+        lo_x = min(lo_x, verts[row, k, 0])
+        lo_y = min(lo_y, verts[row, k, 1])
+        hi_x = max(hi_x, verts[row, k, 0])
+        hi_y = max(hi_y, verts[row, k, 1])
+    if shapes.kind[j] == CHAIN_SEGMENT:
+        _turn(px, py, c, s, shapes.ghosts[j], ghosts[row], 0)
+        _turn(px, py, c, s, shapes.ghosts[j], ghosts[row], 1)
+    return lo_x, lo_y, hi_x, hi_y
+
+
 @tick_kernel
 def update_geometry(bodies, shapes, margin, dt, statics, geometry):
-    """Place every shape of the active bodies (of static ones too when `statics`)."""
-    x, angle, v, active, body_type, first, count = (bodies.x, bodies.angle, bodies.v, bodies.active,
-                                                    bodies.body_type, bodies.first_shape, bodies.shape_count)
-    kind, radius, n_verts, local_verts, local_normals, local_centroid, local_ghosts = (
-        shapes.kind, shapes.radius, shapes.count, shapes.vertices, shapes.normals, shapes.centroid,
-        shapes.ghosts)
-    verts, normals, centroid, ghosts, hitbox, reach = geometry
+    """Place every shape of the active bodies (of static ones too when `statics`), and grow each hitbox by
+    its body's reach: the margin plus the farthest its shapes' cores travel in a tick (|v| + |w| extent)."""
+    x, angle, v, w, extent, active, body_type, first, count = (
+        bodies.x, bodies.angle, bodies.v, bodies.w, bodies.extent, bodies.active, bodies.body_type,
+        bodies.first_shape, bodies.shape_count)
+    n_verts, local_centroid, radius = shapes.count, shapes.centroid, shapes.radius
+    centroid, hitbox, reach = geometry.centroid, geometry.hitbox, geometry.reach
     for i in range(x.shape[0]):
         if not active[i] or (body_type[i] == STATIC and not statics):
             continue
         px, py = x[i, 0], x[i, 1]
-        fat = margin + dt * math.sqrt(v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1])
+        fat = margin + dt * (math.sqrt(v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1]) + abs(w[i]) * extent[i])
         reach[i] = fat
         c = 1.0
         s = 0.0
@@ -66,27 +92,14 @@ def update_geometry(bodies, shapes, margin, dt, statics, geometry):
             if n_verts[j] == 0 and local_centroid[j, 0] == 0.0 and local_centroid[j, 1] == 0.0:
                 centroid[j, 0] = px  # a circle about the centre of mass: no turning needed
                 centroid[j, 1] = py
+                lo_x = hi_x = px
+                lo_y = hi_y = py
             else:
                 if not turned:
                     c = math.cos(angle[i])
                     s = math.sin(angle[i])
                     turned = True
-                _turn(px, py, c, s, local_centroid, centroid, j)
-            # the centroid lies inside the piece, so the box of the vertices contains it
-            lo_x = hi_x = centroid[j, 0]
-            lo_y = hi_y = centroid[j, 1]
-            for k in range(n_verts[j]):
-                _turn(px, py, c, s, local_verts[j], verts[j], k)
-                nx, ny = local_normals[j, k, 0], local_normals[j, k, 1]
-                normals[j, k, 0] = c * nx - s * ny
-                normals[j, k, 1] = s * nx + c * ny
-                lo_x = min(lo_x, verts[j, k, 0])
-                lo_y = min(lo_y, verts[j, k, 1])
-                hi_x = max(hi_x, verts[j, k, 0])
-                hi_y = max(hi_y, verts[j, k, 1])
-            if kind[j] == CHAIN_SEGMENT:
-                _turn(px, py, c, s, local_ghosts[j], ghosts[j], 0)
-                _turn(px, py, c, s, local_ghosts[j], ghosts[j], 1)
+                lo_x, lo_y, hi_x, hi_y = place_piece(shapes, j, px, py, c, s, geometry, j)
             r = radius[j]
             hitbox[j, 0] = lo_x - r - fat
             hitbox[j, 1] = lo_y - r - fat

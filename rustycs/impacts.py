@@ -9,8 +9,8 @@ contact at a time: a contact that closes reflects its approach speed times its r
 make the next contact close, and so on, pass after pass, until none closes. A ball hitting a row of
 touching balls so hands its speed down the row (Newton's cradle: 0, 0, 0, 0, 1) where solving the
 contacts at once shares it (-0.47, 0, 0.48, 0.49, 0.49 at 4 substeps). The two points of a manifold
-are resolved together (`two_point_lcp`), so that a box falling flat bounces straight rather than
-turning on the corner solved first.
+are resolved together (`contact_solver.two_point_lcp`), so that a box falling flat bounces straight
+rather than turning on the corner solved first.
 
 Friction during the soft step is limited by the impulse that stopped the approach; the bounce adds more
 normal impulse, and `impact_friction` lets friction use it: a disc hitting a slope leaves rolling. The
@@ -48,30 +48,11 @@ from rustycs.contact_solver import (
     lane_index,
     point_index,
     relative_speed,
+    two_point_lcp,
 )
 from rustycs.tick_kernel import tick_kernel
 
 NO_BOUNCE = -1.0  # P_BOUNCE of a point that takes no part in an impact (targets are >= 0)
-
-
-@njit(cache=True, inline="always")
-def two_point_lcp(k11, k12, k22, b1, b2):
-    """Impulses x >= 0 of two points of one manifold with w = K x + b >= 0 and x . w = 0 (K their 2 x 2
-    effective mass matrix, b their speeds less their targets): both pushing, one, or none (Box2D v2's
-    block solver). Together, not one after the other: a flat box pushed at one corner first turns."""
-    det = k11 * k22 - k12 * k12
-    if det > 1e-9 * k11 * k22:
-        x1 = -(k22 * b1 - k12 * b2) / det
-        x2 = -(k11 * b2 - k12 * b1) / det
-        if x1 >= 0.0 and x2 >= 0.0:
-            return x1, x2
-    x1 = -b1 / k11 if k11 > 0.0 else 0.0
-    if x1 >= 0.0 and k12 * x1 + b2 >= 0.0:
-        return x1, 0.0
-    x2 = -b2 / k22 if k22 > 0.0 else 0.0
-    if x2 >= 0.0 and k12 * x2 + b1 >= 0.0:
-        return 0.0, x2
-    return 0.0, 0.0
 
 
 @njit(cache=True, inline="always")

@@ -11,12 +11,14 @@ them in).
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
 from rustycs.broad_phase import SHAPE_BITS, SHAPE_MASK, hitboxes_overlap
+from rustycs.constants import LINEAR_SLOP
 from rustycs.manifold import (
     Collision,
     collide_capsules,
@@ -29,6 +31,7 @@ from rustycs.manifold import (
 )
 from rustycs.pieces import BOX, CHAIN_SEGMENT, CIRCLE
 from rustycs.tick_kernel import tick_kernel
+from rustycs.time_of_impact import Sweep, new_sweep, time_of_impact
 
 FEATURE_BITS = 8  # a point's key: (pair key << FEATURE_BITS) | feature id
 
@@ -64,6 +67,7 @@ class Contacts(NamedTuple):
     points: Points
     count: np.ndarray  # int64 (2,): manifolds and points in use
     collision: Collision  # one pair's scratch
+    sweep: Sweep  # one pair's scratch of the time of impact
 
 
 @njit(cache=True)
@@ -74,7 +78,7 @@ def new_contacts(capacity):
                           np.empty((capacity, MANIFOLD_COLUMNS)))
     points = Points(np.empty(2 * capacity, np.int64), np.empty((2 * capacity, 2)),
                     np.zeros((2 * capacity, POINT_COLUMNS)))
-    return Contacts(manifolds, points, np.zeros(2, np.int64), new_collision())
+    return Contacts(manifolds, points, np.zeros(2, np.int64), new_collision(), new_sweep())
 
 
 @njit(cache=True, inline="always")
@@ -114,19 +118,32 @@ def _collide(shapes, geometry, sa, sb, within, out):
     return count
 
 
+@njit(cache=True, inline="always")
+def _swept_back(bodies, i, t, px, py):
+    """Where the point of body i that is at (px, py) after t seconds of its motion is now."""
+    x, v, w = bodies.x, bodies.v, bodies.w
+    dx = px - (x[i, 0] + v[i, 0] * t)
+    dy = py - (x[i, 1] + v[i, 1] * t)
+    c, s = math.cos(w[i] * t), math.sin(w[i] * t)
+    return x[i, 0] + c * dx + s * dy, x[i, 1] - s * dx + c * dy
+
+
 @tick_kernel
-def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, contacts):
+def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, contacts):
     """Manifolds of the first n_pairs candidate pairs (keys (a << SHAPE_BITS) | b), written into
     `contacts` (for at least as many pairs). Returns (manifold count, point count).
 
     A pair's points are kept within `margin` plus both bodies' travel in one tick (each body's reach is
     the margin plus its travel), so a pair whose hitboxes (grown by the reach) do not overlap has none:
-    it is passed over (the broad phase's pairs are those of fat hitboxes).
+    it is passed over (the broad phase's pairs are those of fat hitboxes). A pair not yet touching that
+    moves more than `margin` in the tick is swept (`time_of_impact`): passing by, it has no points;
+    meeting, it has the points of the features that meet, placed on the bodies where they are now.
     """
     m_shape_a, m_shape_b, m_body_a, m_body_b, m_first, m_count, m_data = contacts.manifolds
     p_key, p_position, p_data = contacts.points
-    out = contacts.collision
-    x, body, hitbox, reach = bodies.x, shapes.body, geometry.hitbox, geometry.reach
+    out, sweep = contacts.collision, contacts.sweep
+    x, v, w, extent = bodies.x, bodies.v, bodies.w, bodies.extent
+    body, hitbox, reach = shapes.body, geometry.hitbox, geometry.reach
     friction, restitution = shapes.friction, shapes.restitution
     n_man = 0
     n_pts = 0
@@ -140,13 +157,26 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, contacts)
         count = _collide(shapes, geometry, sa, sb, reach[a] + reach[b] - margin, out)
         if count == 0:
             continue
+        impact = 0.0
+        if min(out.separations[0], out.separations[count - 1]) > LINEAR_SLOP:
+            vx, vy = v[b, 0] - v[a, 0], v[b, 1] - v[a, 1]
+            travel = dt * (math.sqrt(vx * vx + vy * vy) + abs(w[a]) * extent[a] + abs(w[b]) * extent[b])
+            if travel > margin:
+                impact = time_of_impact(bodies, shapes, sa, sb, dt, LINEAR_SLOP, sweep)
+                if impact < 0.0:
+                    continue  # they pass each other
+                if impact > 0.0:
+                    count = _collide(sweep, sweep.geometry, 0, 1, margin, out)
+                    if count == 0:
+                        continue
         swap = count == 2 and out.ids[0] > out.ids[1]
+        nx, ny = out.normal[0], out.normal[1]
         m_shape_a[n_man] = sa
         m_shape_b[n_man] = sb
         m_body_a[n_man] = a
         m_body_b[n_man] = b
-        m_data[n_man, NX] = out.normal[0]
-        m_data[n_man, NY] = out.normal[1]
+        m_data[n_man, NX] = nx
+        m_data[n_man, NY] = ny
         m_data[n_man, FRICTION] = 0.5 * (friction[sa] + friction[sb])
         m_data[n_man, RESTITUTION] = 0.5 * (restitution[sa] + restitution[sb])
         m_first[n_man] = n_pts
@@ -155,19 +185,25 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, contacts)
         for j in range(count):
             src = 1 - j if swap else j
             px, py = out.points[src, 0], out.points[src, 1]
-            sep = out.separations[src]
+            # each anchor on its own body's surface, half the gap from the midpoint: where the bodies
+            # will meet, so that friction turns them about their true points of contact
+            hx = 0.5 * out.separations[src] * nx
+            hy = 0.5 * out.separations[src] * ny
+            ax, ay, bx, by = px - hx, py - hy, px + hx, py + hy
+            separation = out.separations[src]
+            if impact > 0.0:  # the anchors where they meet, carried back to where the bodies are now
+                ax, ay = _swept_back(bodies, a, impact, ax, ay)
+                bx, by = _swept_back(bodies, b, impact, bx, by)
+                px, py = 0.5 * (ax + bx), 0.5 * (ay + by)
+                separation = (bx - ax) * nx + (by - ay) * ny
             p_key[n_pts] = (pair_keys[k] << FEATURE_BITS) | out.ids[src]
             p_position[n_pts, 0] = px
             p_position[n_pts, 1] = py
-            # each anchor on its own body's surface, half the gap from the midpoint: where the bodies
-            # will meet, so that friction turns them about their true points of contact
-            hx = 0.5 * sep * out.normal[0]
-            hy = 0.5 * sep * out.normal[1]
-            p_data[n_pts, RAX] = px - hx - x[a, 0]
-            p_data[n_pts, RAY] = py - hy - x[a, 1]
-            p_data[n_pts, RBX] = px + hx - x[b, 0]
-            p_data[n_pts, RBY] = py + hy - x[b, 1]
-            p_data[n_pts, SEPARATION] = sep
+            p_data[n_pts, RAX] = ax - x[a, 0]
+            p_data[n_pts, RAY] = ay - x[a, 1]
+            p_data[n_pts, RBX] = bx - x[b, 0]
+            p_data[n_pts, RBY] = by - x[b, 1]
+            p_data[n_pts, SEPARATION] = separation
             p_data[n_pts, NORMAL_IMPULSE] = 0.0
             p_data[n_pts, TANGENT_IMPULSE] = 0.0
             n_pts += 1

@@ -33,6 +33,7 @@ class Bodies(NamedTuple):
     gravity_scale: np.ndarray  # (N,) times the world force
     fixed_rotation: np.ndarray  # (N,) bool: never rotates (an aabb's body, or asked for)
     bullet: np.ndarray  # (N,) bool: continuous collision against dynamic bodies too
+    extent: np.ndarray  # (N,) m: the farthest point of its shapes' cores from the centre of mass
     first_shape: np.ndarray  # (N,) int64 row of the body's first shape in Shapes
     shape_count: np.ndarray  # (N,) int64 rows of its shapes, consecutive
 
@@ -63,7 +64,8 @@ BODY_COLUMNS = {"x": ((2,), np.float64), "angle": ((), np.float64), "v": ((2,), 
              "inv_mass": ((), np.float64), "inv_inertia": ((), np.float64), "body_type": ((), np.int64),
              "active": ((), np.bool_), "origin": ((2,), np.float64), "linear_damping": ((), np.float64),
              "angular_damping": ((), np.float64), "gravity_scale": ((), np.float64),
-             "fixed_rotation": ((), np.bool_), "bullet": ((), np.bool_), "first_shape": ((), np.int64),
+             "fixed_rotation": ((), np.bool_), "bullet": ((), np.bool_), "extent": ((), np.float64),
+             "first_shape": ((), np.int64),
              "shape_count": ((), np.int64)}
 SHAPE_COLUMNS = {"body": ((), np.int64), "kind": ((), np.int64), "radius": ((), np.float64),
              "count": ((), np.int64), "vertices": ((MAX_VERTICES, 2), np.float64),

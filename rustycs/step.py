@@ -186,7 +186,7 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
         if n_pairs > contacts.manifolds.first.shape[0] or 2 * n_pairs > cache.key.shape[0]:
             status[NEED_PAIRS] = n_pairs
             return
-        n_man, n_pts = narrow_phase(pairs.keys, n_pairs, bodies, shapes, geometry, SPECULATIVE_DISTANCE,
+        n_man, n_pts = narrow_phase(pairs.keys, n_pairs, bodies, shapes, geometry, SPECULATIVE_DISTANCE, dt,
                                     contacts)
         warm_start_points(contacts.points, n_pts, cache)
         load_bodies(bodies, body)

@@ -163,6 +163,7 @@ class World:
         center = np.asarray(position, dtype=np.float64) + np.array([[c, -s], [s, c]]) @ props.center
         index = self._bodies.rows
         first_shape = self._shapes.rows
+        extent = 0.0
         for shape, shape_material, piece in placed:
             k = len(piece.vertices)
             vertices = np.zeros((MAX_VERTICES, 2))
@@ -170,6 +171,8 @@ class World:
             vertices[:k] = piece.vertices - props.center
             if k > 1:
                 normals[:k] = edge_normals(vertices[:k])
+            core = np.vstack([vertices[:k], piece.centroid - props.center])
+            extent = max(extent, float(np.max(np.hypot(core[:, 0], core[:, 1]))))
             group, category, mask = int(collision_group), int(collision_category), int(collision_mask)
             self._shapes.append(body=index, kind=piece.kind, radius=piece.radius, count=k, vertices=vertices,
                                 normals=normals, centroid=piece.centroid - props.center,
@@ -182,7 +185,8 @@ class World:
             inv_mass=1.0 / props.mass if moves else 0.0, inv_inertia=1.0 / props.inertia if rotates else 0.0,
             body_type=code, active=True, origin=-props.center, linear_damping=linear_damping,
             angular_damping=angular_damping, gravity_scale=gravity_scale, fixed_rotation=fixed_rotation,
-            bullet=bullet, first_shape=first_shape, shape_count=self._shapes.rows - first_shape)
+            bullet=bullet, extent=extent, first_shape=first_shape,
+            shape_count=self._shapes.rows - first_shape)
         self._shape_list += [(index, shape) for shape in shapes]
         self._changed()
         return index

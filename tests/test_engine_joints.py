@@ -257,10 +257,11 @@ def test_joined_bodies_do_not_collide_unless_asked():
         world = World(tick_rate=60, precision=4)
         a = world.add_body(Box(1.0, 1.0), position=(0.0, 0.0))
         b = world.add_body(Box(1.0, 1.0), position=(0.5, 0.0))  # overlapping
-        world.add_revolute(a, b, (0.25, 0.0), collide_connected=connected)
+        world.add_revolute(a, b, (0.25, 0.3), collide_connected=connected)  # off the overlap's centre line
         world.step(10)
         pushed = abs(world.angular_velocities[a]) + abs(world.angular_velocities[b]) > 1e-3
         assert pushed == apart
+        assert (world.contacts()["normal_impulse"].sum() > 0.0) == apart
 
 
 CRADLE = """
