@@ -287,88 +287,6 @@ def warm_start(batches, n_chunks, lanes, body):
 
 
 @njit(cache=True, inline="always")
-def two_point_lcp(k11, k12, k22, b1, b2):
-    """Impulses x >= 0 of two points of one manifold with w = K x + b >= 0 and x . w = 0 (K symmetric, their
-    2 x 2 effective mass matrix, b their speeds less their targets): both pushing, one, or none (Box2D
-    v2's block solver). Together, not one after the other: a flat box pushed at one corner first turns."""
-    det = k11 * k22 - k12 * k12
-    if det > 1e-9 * k11 * k22:
-        x1 = -(k22 * b1 - k12 * b2) / det
-        x2 = -(k11 * b2 - k12 * b1) / det
-        if x1 >= 0.0 and x2 >= 0.0:
-            return x1, x2
-    x1 = -b1 / k11 if k11 > 0.0 else 0.0
-    if x1 >= 0.0 and k12 * x1 + b2 >= 0.0:
-        return x1, 0.0
-    x2 = -b2 / k22 if k22 > 0.0 else 0.0
-    if x2 >= 0.0 and k12 * x2 + b1 >= 0.0:
-        return 0.0, x2
-    return 0.0, 0.0
-
-
-@njit(cache=True, inline="always")
-def _separation(lanes, q, dn, ca, sa, cb, sb):
-    """A point's separation now: the anchors turned by each body's rotation since the narrow phase,
-    projected on the normal through their precomputed dot and cross products, and the centres'
-    approach `dn`."""
-    return (dn + (cb * lanes[q + P_RDB] + sb * lanes[q + P_RNB])
-            - (ca * lanes[q + P_RDA] + sa * lanes[q + P_RNA]) + lanes[q + P_SEPARATION])
-
-
-@njit(cache=True, inline="always")
-def _bias(s, inv_h, rate):
-    """The speed a point's normal constraint aims at: a gap may close, no more; an overlap is pushed
-    apart softly, at most at MAX_PUSH_SPEED."""
-    return s * inv_h if s > 0.0 else max(rate * s, -MAX_PUSH_SPEED)
-
-
-@njit(cache=True, inline="always")
-def _two_point_normals(lanes, o, inv_h, use_bias, rate, mscale, iscale, dn, ca, sa, cb, sb, vax, vay, wa, vbx,
-                       vby, wb):
-    """The normal impulses of a two-point manifold, both points from the same velocities: in the biased
-    pass together (`two_point_lcp`), in the relax pass each on its own. One after the other, the first
-    point's impulse turns the body and the second's then differs: a tall plate standing on a 1 cm edge
-    rocked ever more and fell after 3.4 s at 4 substeps (now at rest for 10 s, to 1e-15 rad), a box
-    landing flat took a tilt of 6 mrad (then bounced off a corner), and a box pushed flat moved on
-    faster than its pusher (1.557 m/s against 1.5). Solving the relax pass together as well sheared the
-    820-box pyramid (worst box 0.54 m); as it is, its worst box moves 3.4 cm (4.7 one after the other).
-    Both points are soft when either overlaps, so that points at nearly the same depth are solved
-    alike. Returns the velocities."""
-    ma, ia, mb, ib = lanes[o + L_MA], lanes[o + L_IA], lanes[o + L_MB], lanes[o + L_IB]
-    nx, ny = lanes[o + L_NX], lanes[o + L_NY]
-    q1, q2 = point_index(o, 0), point_index(o, 1)
-    r1a, r1b, r2a, r2b = lanes[q1 + P_RNA], lanes[q1 + P_RNB], lanes[q2 + P_RNA], lanes[q2 + P_RNB]
-    s1 = _separation(lanes, q1, dn, ca, sa, cb, sb)
-    s2 = _separation(lanes, q2, dn, ca, sa, cb, sb)
-    bias1 = _bias(s1, inv_h, rate) if s1 > 0.0 or use_bias else 0.0
-    bias2 = _bias(s2, inv_h, rate) if s2 > 0.0 or use_bias else 0.0
-    old1, old2 = lanes[q1 + P_NORMAL_IMPULSE], lanes[q2 + P_NORMAL_IMPULSE]
-    vn1 = relative_speed(vax, vay, wa, vbx, vby, wb, nx, ny, r1a, r1b)
-    vn2 = relative_speed(vax, vay, wa, vbx, vby, wb, nx, ny, r2a, r2b)
-    if use_bias:
-        # the soft update x = (1 - iscale) old - mscale (vn + bias) / k of one point is the complementarity
-        # problem of w = k x + mscale (vn + bias - k old), as mscale + iscale = 1; rigid: mscale 1
-        mass_scale = mscale if s1 <= 0.0 or s2 <= 0.0 else 1.0
-        k11 = ma + mb + ia * r1a * r1a + ib * r1b * r1b
-        k12 = ma + mb + ia * r1a * r2a + ib * r1b * r2b
-        k22 = ma + mb + ia * r2a * r2a + ib * r2b * r2b
-        x1, x2 = two_point_lcp(k11, mass_scale * k12, k22,
-                               mass_scale * (vn1 + bias1 - k11 * old1 - k12 * old2),
-                               mass_scale * (vn2 + bias2 - k12 * old1 - k22 * old2))
-    else:
-        x1 = max(old1 - lanes[q1 + P_NORMAL_MASS] * (vn1 + bias1), 0.0)
-        x2 = max(old2 - lanes[q2 + P_NORMAL_MASS] * (vn2 + bias2), 0.0)
-    d1, d2 = x1 - old1, x2 - old2
-    lanes[q1 + P_NORMAL_IMPULSE] = x1
-    lanes[q2 + P_NORMAL_IMPULSE] = x2
-    lanes[q1 + P_MAX_NORMAL_IMPULSE] = max(lanes[q1 + P_MAX_NORMAL_IMPULSE], d1)
-    lanes[q2 + P_MAX_NORMAL_IMPULSE] = max(lanes[q2 + P_MAX_NORMAL_IMPULSE], d2)
-    total = d1 + d2
-    return (vax - ma * nx * total, vay - ma * ny * total, wa - ia * (r1a * d1 + r2a * d2),
-            vbx + mb * nx * total, vby + mb * ny * total, wb + ib * (r1b * d1 + r2b * d2))
-
-
-@njit(cache=True, inline="always")
 def _solve_lanes(c, lanes, inv_h, use_bias, points):
     for j in range(LANES):
         o = lane_index(c, j)
@@ -379,17 +297,22 @@ def _solve_lanes(c, lanes, inv_h, use_bias, points):
         rate, mscale, iscale = lanes[o + L_RATE], lanes[o + L_MASS_SCALE], lanes[o + L_IMPULSE_SCALE]
         dn = lanes[o + L_DN]
         ca, sa, cb, sb = lanes[o + L_CA], lanes[o + L_SA], lanes[o + L_CB], lanes[o + L_SB]
-        if points == 2:
-            vax, vay, wa, vbx, vby, wb = _two_point_normals(lanes, o, inv_h, use_bias, rate, mscale, iscale,
-                                                            dn, ca, sa, cb, sb, vax, vay, wa, vbx, vby, wb)
-        else:
-            q = point_index(o, 0)
+        for k in range(points):
+            q = point_index(o, k)
             rna, rnb = lanes[q + P_RNA], lanes[q + P_RNB]
-            s = _separation(lanes, q, dn, ca, sa, cb, sb)
-            bias = _bias(s, inv_h, rate) if s > 0.0 or use_bias else 0.0
-            soft = s <= 0.0 and use_bias
-            mass_scale = mscale if soft else 1.0
-            impulse_scale = iscale if soft else 0.0
+            # current separation: the anchors turned by each body's rotation since the narrow phase,
+            # projected on the normal through their precomputed dot and cross products
+            s = (dn + (cb * lanes[q + P_RDB] + sb * rnb) - (ca * lanes[q + P_RDA] + sa * rna)
+                 + lanes[q + P_SEPARATION])
+            bias = 0.0
+            mass_scale = 1.0
+            impulse_scale = 0.0
+            if s > 0.0:
+                bias = s * inv_h  # speculative: allow closing the gap, no more
+            elif use_bias:
+                bias = max(rate * s, -MAX_PUSH_SPEED)
+                mass_scale = mscale
+                impulse_scale = iscale
             vn = relative_speed(vax, vay, wa, vbx, vby, wb, nx, ny, rna, rnb)
             old = lanes[q + P_NORMAL_IMPULSE]
             total = max(old - lanes[q + P_NORMAL_MASS] * mass_scale * (vn + bias) - impulse_scale * old, 0.0)
@@ -438,3 +361,23 @@ def solve(batches, n_chunks, lanes, body, inv_h, use_bias):
         else:
             _solve_lanes(c, lanes, inv_h, use_bias, 1)
         _scatter(batches, c, lanes, body)
+
+
+@njit(cache=True, inline="always")
+def two_point_lcp(k11, k12, k22, b1, b2):
+    """Impulses x >= 0 of the two points of a manifold with w = K x + b >= 0 and x . w = 0 (K their
+    symmetric 2 x 2 effective mass matrix, b their speeds less their targets): both pushing, one, or none
+    (Box2D v2's block solver)."""
+    det = k11 * k22 - k12 * k12
+    if det > 1e-9 * k11 * k22:
+        x1 = -(k22 * b1 - k12 * b2) / det
+        x2 = -(k11 * b2 - k12 * b1) / det
+        if x1 >= 0.0 and x2 >= 0.0:
+            return x1, x2
+    x1 = -b1 / k11 if k11 > 0.0 else 0.0
+    if x1 >= 0.0 and k12 * x1 + b2 >= 0.0:
+        return x1, 0.0
+    x2 = -b2 / k22 if k22 > 0.0 else 0.0
+    if x2 >= 0.0 and k12 * x2 + b1 >= 0.0:
+        return 0.0, x2
+    return 0.0, 0.0

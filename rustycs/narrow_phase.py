@@ -166,7 +166,7 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, conta
                 if impact < 0.0:
                     continue  # they pass each other
                 if impact > 0.0:
-                    count = _collide(sweep, sweep.geometry, 0, 1, margin, out)
+                    count = _collide(sweep, sweep.geometry, 0, 1, reach[a] + reach[b] - margin, out)
                     if count == 0:
                         continue
         swap = count == 2 and out.ids[0] > out.ids[1]

@@ -10,9 +10,11 @@ an impact at time t, the contact of the features that meet there.
 
 The sweep is conservative advancement (Mirtich): at time t place both pieces as their bodies move with
 constant velocities (turning about their centres of mass), take the distance d of their cores less
-their radii, and advance by d over the fastest that d can shrink: the approach speed of the closest
-points along their direction, plus |w| times each body's extent for turning. For bodies that do not
-turn, d(t) is convex, so the steps never overshoot the impact and stop where d stops shrinking.
+their radii, and advance by d over the fastest that d can shrink. For bodies that do not turn, d(t) is
+convex and shrinks at most at the approach speed of the closest points along their direction, so the
+steps never overshoot the impact and stop where d stops shrinking. Turning bodies take the bound of any
+point: the relative speed plus |w| times each body's extent (the approach of the closest points alone
+let two tumbling capsules of the capsule pile step past their impact into a 6.5 cm overlap).
 """
 
 from __future__ import annotations
@@ -135,11 +137,15 @@ def time_of_impact(bodies, shapes, sa, sb, dt, reach, sweep):
         gap = distance - radii
         if gap <= reach:
             return t
-        # the fastest the gap can shrink: the closest points' approach, and the turning of both bodies
-        closing = turning - (vx * (bx - ax) + vy * (by - ay)) / distance
+        # the fastest the gap can shrink: without turning, the closest points' approach; turning, the
+        # direction between the closest points turns too, so any point's speed, and both bodies' turning
+        if turning > 0.0:
+            closing = turning + math.sqrt(vx * vx + vy * vy)
+        else:
+            closing = -(vx * (bx - ax) + vy * (by - ay)) / distance
         if closing <= 0.0:
             return -1.0
-        t += gap / closing
+        t += (gap - 0.5 * reach) / closing  # to mid-band: the next step lands within reach
         if t > dt:
             return -1.0
     return t

@@ -111,5 +111,5 @@ def test_a_one_centimetre_plate_stands_on_its_edge():
     plate = world.add_body(Box(0.01, 1.0), position=(0.0, 0.5))
     for _ in range(600):
         world.step()
-        assert abs(world.angles[plate]) < 1e-3
+        assert abs(world.angles[plate]) < 0.005  # half the angle it tips over at (0.01 rad)
     assert world.centers[plate] == pytest.approx([0.0, 0.5], abs=1e-3)
