@@ -133,15 +133,21 @@ def store_bodies(body, bodies):
 
 
 @tick_kernel
-def prepare(batches, n_chunks, manifolds, points, body, soft, stiff, lanes):
+def prepare(batches, n_chunks, manifolds, points, radius, body, soft, stiff, lanes):
     """Fill the lanes of the scheduled contacts: inverse masses, normal, friction, restitution, softness,
-    and per point the anchors' products with the normal and the tangent, the effective masses, the
-    approach speed (for restitution) and the warm-start impulses. An empty lane, or a manifold's
-    missing second point, is all zeros: it solves to no impulse. Contacts against an immovable body
-    get the stiffer softness: only one side gives way. Returns the number of contacts that may bounce
-    (restitution above 0)."""
+    and per point the anchors' products with the normal and the tangent, the effective masses and the
+    warm-start impulses. An empty lane, or a manifold's missing second point, is all zeros: it solves to
+    no impulse. Contacts against an immovable body get the stiffer softness: only one side gives way.
+    Returns the number of contacts that may bounce (restitution above 0).
+
+    The separation is followed through the substeps by turning each anchor with its body, less the
+    shape's radius (`radius`, per shape): the surface of a rounded shape meets the other where its core
+    is nearest, whichever way the shape has turned. With the radius turned too, a ball glancing off a
+    wall at 167 m/s, spun up to 800 rad/s by friction, turned its anchor away from the wall and went
+    through it."""
     fill, slot_manifold = batches.fill, batches.slot_manifold
     m_a, m_b, manifold = manifolds.body_a, manifolds.body_b, manifolds.data
+    shape_a, shape_b = manifolds.shape_a, manifolds.shape_b
     m_first, m_count = manifolds.first, manifolds.count
     point = points.data
     bouncy = 0
@@ -181,8 +187,8 @@ def prepare(batches, n_chunks, manifolds, points, body, soft, stiff, lanes):
                 rnb = rbx * ny - rby * nx
                 rta = rax * ty - ray * tx
                 rtb = rbx * ty - rby * tx
-                rda = rax * nx + ray * ny
-                rdb = rbx * nx + rby * ny
+                rda = rax * nx + ray * ny - radius[shape_a[m]]  # the anchors on the cores
+                rdb = rbx * nx + rby * ny + radius[shape_b[m]]
                 lanes[q + P_RNA] = rna
                 lanes[q + P_RNB] = rnb
                 lanes[q + P_RTA] = rta

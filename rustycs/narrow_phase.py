@@ -31,7 +31,7 @@ from rustycs.manifold import (
 )
 from rustycs.pieces import BOX, CHAIN_SEGMENT, CIRCLE
 from rustycs.tick_kernel import tick_kernel
-from rustycs.time_of_impact import Sweep, new_sweep, time_of_impact
+from rustycs.time_of_impact import Sweep, motion_now, new_sweep, time_of_impact
 
 FEATURE_BITS = 8  # a point's key: (pair key << FEATURE_BITS) | feature id
 
@@ -66,6 +66,7 @@ class Contacts(NamedTuple):
     manifolds: Manifolds
     points: Points
     count: np.ndarray  # int64 (2,): manifolds and points in use
+    paired: np.ndarray  # (capacity,) bool: whether candidate pair k got a manifold
     collision: Collision  # one pair's scratch
     sweep: Sweep  # one pair's scratch of the time of impact
 
@@ -78,7 +79,8 @@ def new_contacts(capacity):
                           np.empty((capacity, MANIFOLD_COLUMNS)))
     points = Points(np.empty(2 * capacity, np.int64), np.empty((2 * capacity, 2)),
                     np.zeros((2 * capacity, POINT_COLUMNS)))
-    return Contacts(manifolds, points, np.zeros(2, np.int64), new_collision(), new_sweep())
+    return Contacts(manifolds, points, np.zeros(2, np.int64), np.zeros(capacity, np.bool_), new_collision(),
+                    new_sweep())
 
 
 @njit(cache=True, inline="always")
@@ -119,13 +121,12 @@ def _collide(shapes, geometry, sa, sb, within, out):
 
 
 @njit(cache=True, inline="always")
-def _swept_back(bodies, i, t, px, py):
-    """Where the point of body i that is at (px, py) after t seconds of its motion is now."""
-    x, v, w = bodies.x, bodies.v, bodies.w
-    dx = px - (x[i, 0] + v[i, 0] * t)
-    dy = py - (x[i, 1] + v[i, 1] * t)
-    c, s = math.cos(w[i] * t), math.sin(w[i] * t)
-    return x[i, 0] + c * dx + s * dy, x[i, 1] - s * dx + c * dy
+def _swept_back(m, t, px, py):
+    """Where the point of a body moving as `m` that is at (px, py) after t seconds is now."""
+    dx = px - (m.x + m.vx * t)
+    dy = py - (m.y + m.vy * t)
+    c, s = math.cos(m.w * t), math.sin(m.w * t)
+    return m.x + c * dx + s * dy, m.y - s * dx + c * dy
 
 
 @tick_kernel
@@ -141,15 +142,16 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, conta
     """
     m_shape_a, m_shape_b, m_body_a, m_body_b, m_first, m_count, m_data = contacts.manifolds
     p_key, p_position, p_data = contacts.points
-    out, sweep = contacts.collision, contacts.sweep
+    out, sweep, paired = contacts.collision, contacts.sweep, contacts.paired
     x, v, w, extent = bodies.x, bodies.v, bodies.w, bodies.extent
     body, hitbox, reach = shapes.body, geometry.hitbox, geometry.reach
-    friction, restitution = shapes.friction, shapes.restitution
+    friction, restitution, radius = shapes.friction, shapes.restitution, shapes.radius
     n_man = 0
     n_pts = 0
     for k in range(n_pairs):
         sa = pair_keys[k] >> SHAPE_BITS
         sb = pair_keys[k] & SHAPE_MASK
+        paired[k] = False
         if not hitboxes_overlap(hitbox, sa, sb):
             continue
         a = body[sa]
@@ -158,17 +160,21 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, conta
         if count == 0:
             continue
         impact = 0.0
+        motion_a, motion_b = motion_now(bodies, a), motion_now(bodies, b)
         if min(out.separations[0], out.separations[count - 1]) > LINEAR_SLOP:
             vx, vy = v[b, 0] - v[a, 0], v[b, 1] - v[a, 1]
             travel = dt * (math.sqrt(vx * vx + vy * vy) + abs(w[a]) * extent[a] + abs(w[b]) * extent[b])
             if travel > margin:
-                impact = time_of_impact(bodies, shapes, sa, sb, dt, LINEAR_SLOP, sweep)
-                if impact < 0.0:
-                    continue  # they pass each other
+                impact = time_of_impact(shapes, sa, sb, motion_a, motion_b, dt, LINEAR_SLOP, sweep)
+                if impact < 0.0 and vx * out.normal[0] + vy * out.normal[1] < 0.0:
+                    continue  # they pass each other: closing now, never touching
+                # moving apart, they keep their points (a blow from elsewhere may yet drive them together)
+                impact = max(impact, 0.0)
                 if impact > 0.0:
                     count = _collide(sweep, sweep.geometry, 0, 1, reach[a] + reach[b] - margin, out)
                     if count == 0:
                         continue
+        paired[k] = True
         swap = count == 2 and out.ids[0] > out.ids[1]
         nx, ny = out.normal[0], out.normal[1]
         m_shape_a[n_man] = sa
@@ -191,9 +197,12 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, conta
             hy = 0.5 * out.separations[src] * ny
             ax, ay, bx, by = px - hx, py - hy, px + hx, py + hy
             separation = out.separations[src]
-            if impact > 0.0:  # the anchors where they meet, carried back to where the bodies are now
-                ax, ay = _swept_back(bodies, a, impact, ax, ay)
-                bx, by = _swept_back(bodies, b, impact, bx, by)
+            if impact > 0.0:  # the anchors where they meet, carried back to where the bodies are now: their
+                # points on the cores turn with the bodies, the radii stay along the normal
+                ra, rb = radius[sa], radius[sb]
+                ax, ay = _swept_back(motion_a, impact, ax - ra * nx, ay - ra * ny)
+                bx, by = _swept_back(motion_b, impact, bx + rb * nx, by + rb * ny)
+                ax, ay, bx, by = ax + ra * nx, ay + ra * ny, bx - rb * nx, by - rb * ny
                 px, py = 0.5 * (ax + bx), 0.5 * (ay + by)
                 separation = (bx - ax) * nx + (by - ay) * ny
             p_key[n_pts] = (pair_keys[k] << FEATURE_BITS) | out.ids[src]

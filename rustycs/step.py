@@ -37,6 +37,7 @@ from rustycs.contact_solver import (
     store_impulses,
     warm_start,
 )
+from rustycs.continuous import hold_back_passes
 from rustycs.events import JOINT_BREAK, Events, new_events, record_event
 from rustycs.geometry import Geometry, new_geometry, update_geometry
 from rustycs.impacts import keep_velocities, resolve_impacts
@@ -76,6 +77,7 @@ class Workspace(NamedTuple):
     lanes: np.ndarray  # the solver's lanes of the scheduled contacts
     decay: np.ndarray  # (N, 2) per body the damping factors of a tick, linear and angular
     bounce_velocity: np.ndarray  # (N, BODY_COLUMNS) the solver rows before the soft step (impacts)
+    held_back: np.ndarray  # (N,) scratch of `hold_back_passes`
     joint_frames: np.ndarray  # (J, FRAME_COLUMNS) the joints' anchors and springs of the tick
     broken: np.ndarray  # (J,) int64 scratch: the joints that broke in a tick
     events: Events
@@ -92,8 +94,8 @@ def new_workspace(n_bodies, n_shapes, n_joints, max_vertices, c_key, c_jn, c_jt)
     return Workspace(new_geometry(n_bodies, n_shapes, max_vertices), pairs, new_contacts(capacity),
                      new_cache(2 * capacity, c_key, c_jn, c_jt), np.empty((n_bodies, BODY_COLUMNS)),
                      new_batches(n_bodies, capacity), np.empty(capacity * LANE_FIELDS),
-                     np.ones((n_bodies, 2)), np.zeros((n_bodies, BODY_COLUMNS)), np.zeros((n_joints,
-                                                                                           FRAME_COLUMNS)),
+                     np.ones((n_bodies, 2)), np.zeros((n_bodies, BODY_COLUMNS)), np.ones(n_bodies),
+                     np.zeros((n_joints, FRAME_COLUMNS)),
                      np.zeros(n_joints, np.int64), new_events(n_joints + n_bodies + 16), np.zeros(1,
                                                                                                   np.bool_))
 
@@ -118,7 +120,7 @@ def grown(ws, n_bodies, cells, pairs, points, chunks):
     if chunks * LANES * LANE_FIELDS > lanes.shape[0]:
         lanes = np.empty(2 * chunks * LANES * LANE_FIELDS)
     return Workspace(ws.geometry, p, contacts, cache, ws.body, batches, lanes, ws.decay, ws.bounce_velocity,
-                     ws.joint_frames, ws.broken, ws.events, ws.statics_placed)
+                     ws.held_back, ws.joint_frames, ws.broken, ws.events, ws.statics_placed)
 
 
 @tick_kernel
@@ -164,9 +166,8 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
     # rocked ever more and fell after 3.4 s at 4 substeps (capped: at rest for 10 s, to 4e-6 rad)
     stiff = softness(min(2.0 * contact_hertz, 0.25 / h), CONTACT_DAMPING_RATIO, h)
     joint_soft = softness(JOINT_STIFFNESS / h, JOINT_DAMPING_RATIO, h)
-    (geometry, pairs, contacts, cache, body, batches, lanes, decay, bounce_velocity, joint_frames, broken,
-     events,
-     statics_placed) = ws
+    (geometry, pairs, contacts, cache, body, batches, lanes, decay, bounce_velocity, held_back, joint_frames,
+     broken, events, statics_placed) = ws
     damping_factors(bodies, dt, decay)
     while status[TICKS_DONE] < n_ticks:
         bad = first_non_finite(bodies)
@@ -198,7 +199,8 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
         if n_chunks * LANES * LANE_FIELDS > lanes.shape[0]:
             status[NEED_CHUNKS] = n_chunks
             return
-        bouncy = prepare(batches, n_chunks, contacts.manifolds, contacts.points, body, soft, stiff, lanes)
+        bouncy = prepare(batches, n_chunks, contacts.manifolds, contacts.points, shapes.radius, body, soft,
+                         stiff, lanes)
         if bouncy > 0:
             keep_velocities(body, bounce_velocity)
         substeps(batches, n_chunks, lanes, body, bodies, joints, joint_frames, joint_soft, forces, h,
@@ -207,6 +209,8 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
         if bouncy > 0:
             resolve_impacts(batches, n_chunks, lanes, body, bounce_velocity, settings.restitution_threshold)
         store_bodies(body, bodies)
+        hold_back_passes(pairs.keys, n_pairs, contacts.paired, bodies, shapes, geometry, body, dt,
+                         SPECULATIVE_DISTANCE, contacts.sweep, held_back)
         remember(contacts.points, n_pts, cache)
         tick = first_tick + status[TICKS_DONE] + 1
         for k in range(break_joints(bodies, body, joints, joint_frames, h, broken)):

@@ -104,16 +104,35 @@ def core_distance(sweep):
     return math.sqrt(best), ax, ay, bx, by
 
 
+class Motion(NamedTuple):
+    """How a body moves through a sweep: its centre of mass and angle at the sweep's start, its constant
+    velocities, and the farthest point of its shapes' cores from its centre of mass."""
+
+    x: float
+    y: float
+    angle: float
+    vx: float
+    vy: float
+    w: float
+    extent: float
+
+
 @njit(cache=True, inline="always")
-def place_pair(bodies, shapes, sa, sb, t, sweep):
-    """Place shapes sa and sb into the sweep's rows 0 and 1 as their bodies will be after t seconds."""
-    x, v, angle, w = bodies.x, bodies.v, bodies.angle, bodies.w
+def motion_now(bodies, i):
+    """Body i as it moves at the start of a tick."""
+    x, v = bodies.x, bodies.v
+    return Motion(x[i, 0], x[i, 1], bodies.angle[i], v[i, 0], v[i, 1], bodies.w[i], bodies.extent[i])
+
+
+@njit(cache=True, inline="always")
+def place_pair(shapes, sa, sb, motion_a, motion_b, t, sweep):
+    """Place shapes sa and sb into the sweep's rows 0 and 1 where their bodies' motions take them after t
+    seconds."""
     for row in range(2):
-        j = sa if row == 0 else sb
-        i = shapes.body[j]
-        turn = angle[i] + w[i] * t
-        place_piece(shapes, j, x[i, 0] + v[i, 0] * t, x[i, 1] + v[i, 1] * t, math.cos(turn), math.sin(turn),
-                    sweep.geometry, row)
+        j, m = (sa, motion_a) if row == 0 else (sb, motion_b)
+        turn = m.angle + m.w * t
+        place_piece(shapes, j, m.x + m.vx * t, m.y + m.vy * t, math.cos(turn), math.sin(turn), sweep.geometry,
+                    row)
         sweep.kind[row] = shapes.kind[j]
         sweep.radius[row] = shapes.radius[j]
         sweep.count[row] = shapes.count[j]
@@ -121,18 +140,16 @@ def place_pair(bodies, shapes, sa, sb, t, sweep):
 
 
 @njit(cache=True, inline="always")
-def time_of_impact(bodies, shapes, sa, sb, dt, reach, sweep):
-    """The first time in [0, dt] at which shapes sa and sb come within `reach` of touching, moving with
-    their bodies' velocities; -1 when they do not. The sweep's rows hold the pieces placed at that
-    time."""
-    v, w, extent, body = bodies.v, bodies.w, bodies.extent, shapes.body
-    a, b = body[sa], body[sb]
-    vx, vy = v[b, 0] - v[a, 0], v[b, 1] - v[a, 1]
-    turning = abs(w[a]) * extent[a] + abs(w[b]) * extent[b]
+def time_of_impact(shapes, sa, sb, motion_a, motion_b, duration, reach, sweep):
+    """The first time in [0, duration] at which shapes sa and sb come within `reach` of touching, their
+    bodies moving as `motion_a` and `motion_b` say; -1 when they do not. The sweep's rows hold the pieces
+    placed at that time."""
+    vx, vy = motion_b.vx - motion_a.vx, motion_b.vy - motion_a.vy
+    turning = abs(motion_a.w) * motion_a.extent + abs(motion_b.w) * motion_b.extent
     radii = shapes.radius[sa] + shapes.radius[sb]
     t = 0.0
     for _ in range(ADVANCE_STEPS):
-        place_pair(bodies, shapes, sa, sb, t, sweep)
+        place_pair(shapes, sa, sb, motion_a, motion_b, t, sweep)
         distance, ax, ay, bx, by = core_distance(sweep)
         gap = distance - radii
         if gap <= reach:
@@ -146,6 +163,6 @@ def time_of_impact(bodies, shapes, sa, sb, dt, reach, sweep):
         if closing <= 0.0:
             return -1.0
         t += (gap - 0.5 * reach) / closing  # to mid-band: the next step lands within reach
-        if t > dt:
+        if t > duration:
             return -1.0
     return t

@@ -1,0 +1,113 @@
+"""Continuous collision after the solver: a fast body that went through a static or kinematic shape in
+its tick, or a bullet that went through any dynamic body, is put back where it first touched it.
+
+The narrow phase sweeps each pair with the velocities the tick starts with (`time_of_impact`), so the
+solver stops every impact those velocities lead to. A body that another contact turns in the middle of
+the tick can then meet what it was not heading for: among 500 circles shot at 100-300 m/s inside a box
+of 2 cm walls, one deflected by its neighbour crossed a wall it had been moving away from. So after the
+solver, every candidate pair that got no contact is swept again along the path its bodies actually took,
+straight from their poses at the tick's start to those at its end; a body that passes within touching
+distance of such a shape is moved back along that path to where it first touched (Box2D's
+b2SolveContinuous), keeping its velocity: the next tick's contact stops it there.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from rustycs.body_types import DYNAMIC
+from rustycs.broad_phase import SHAPE_BITS, SHAPE_MASK
+from rustycs.constants import LINEAR_SLOP
+from rustycs.contact_solver import COS, DX, DY, SIN
+from rustycs.tick_kernel import tick_kernel
+from rustycs.time_of_impact import Motion, time_of_impact
+
+
+@njit(cache=True, inline="always")
+def _tick_motion(bodies, body, i, dt):
+    """Body i's motion through the tick just solved: straight from its pose at the start of the tick to
+    its pose now (the solver rows hold its displacement and its turn since then)."""
+    turn = math.atan2(body[i, SIN], body[i, COS])
+    return Motion(bodies.x[i, 0] - body[i, DX], bodies.x[i, 1] - body[i, DY], bodies.angle[i] - turn,
+                  body[i, DX] / dt, body[i, DY] / dt, turn / dt, bodies.extent[i])
+
+
+@njit(cache=True, inline="always")
+def _held_back(bodies, mover, other):
+    """Whether a pass of body `mover` through body `other` is undone: a dynamic body's through a static or
+    kinematic one, and a bullet's through any other."""
+    body_type, bullet = bodies.body_type, bodies.bullet
+    return body_type[mover] == DYNAMIC and (body_type[other] != DYNAMIC or bullet[mover])
+
+
+@njit(cache=True, inline="always")
+def _near(hitbox, i, j, grow):
+    """Whether hitbox i grown by `grow` overlaps hitbox j."""
+    return (hitbox[i, 0] - grow <= hitbox[j, 2] and hitbox[j, 0] <= hitbox[i, 2] + grow
+            and hitbox[i, 1] - grow <= hitbox[j, 3] and hitbox[j, 1] <= hitbox[i, 3] + grow)
+
+
+@njit(cache=True, inline="always")
+def _sweep(shapes, sa, sb, motion_a, motion_b, dt, margin, sweep):
+    """The fraction of the tick at which shapes sa and sb, moving as their motions say, first come within
+    touching distance; 1 when they do not, or when they touch from the start (no pass) or hardly move."""
+    vx, vy = motion_b.vx - motion_a.vx, motion_b.vy - motion_a.vy
+    turning = abs(motion_a.w) * motion_a.extent + abs(motion_b.w) * motion_b.extent
+    if dt * (math.sqrt(vx * vx + vy * vy) + turning) <= margin:
+        return 1.0
+    t = time_of_impact(shapes, sa, sb, motion_a, motion_b, dt, LINEAR_SLOP, sweep)
+    return t / dt if t > 0.0 else 1.0
+
+
+@tick_kernel
+def hold_back_passes(pair_keys, n_pairs, paired, bodies, shapes, geometry, body, dt, margin, sweep, earliest):
+    """Sweep the candidate pairs that got no contact along the tick's paths of their bodies (those that
+    moved more than `margin` relative to each other), and move each body held back by one (`_held_back`)
+    to the earliest time it touched one. A dynamic body that moved farther than its hitbox reached (a
+    collision sped it up) is swept against every static and kinematic shape its path passes. `earliest`
+    is scratch of one entry per body."""
+    for i in range(earliest.shape[0]):
+        earliest[i] = 1.0
+    for k in range(n_pairs):
+        if paired[k]:
+            continue  # the solver had its contact
+        sa = pair_keys[k] >> SHAPE_BITS
+        sb = pair_keys[k] & SHAPE_MASK
+        a, b = shapes.body[sa], shapes.body[sb]
+        hold_a, hold_b = _held_back(bodies, a, b), _held_back(bodies, b, a)
+        if hold_a or hold_b:
+            motion_a, motion_b = _tick_motion(bodies, body, a, dt), _tick_motion(bodies, body, b, dt)
+            f = _sweep(shapes, sa, sb, motion_a, motion_b, dt, margin, sweep)
+            if hold_a:
+                earliest[a] = min(earliest[a], f)
+            if hold_b:
+                earliest[b] = min(earliest[b], f)
+    body_type, first, count, extent = bodies.body_type, bodies.first_shape, bodies.shape_count, bodies.extent
+    hitbox, reach = geometry.hitbox, geometry.reach
+    for i in range(earliest.shape[0]):
+        if body_type[i] != DYNAMIC or not bodies.active[i]:
+            continue
+        turn = math.atan2(body[i, SIN], body[i, COS])
+        travel = math.hypot(body[i, DX], body[i, DY]) + abs(turn) * extent[i]
+        if travel <= reach[i] - margin:
+            continue  # its hitboxes held its path: its pairs were swept above
+        grow = travel + LINEAR_SLOP
+        motion = _tick_motion(bodies, body, i, dt)
+        for j in range(shapes.body.shape[0]):
+            other = shapes.body[j]
+            if body_type[other] == DYNAMIC or shapes.sensor[j] or not bodies.active[other]:
+                continue
+            for sa in range(first[i], first[i] + count[i]):
+                if shapes.sensor[sa] or not _near(hitbox, sa, j, grow):
+                    continue
+                f = _sweep(shapes, sa, j, motion, _tick_motion(bodies, body, other, dt), dt, margin, sweep)
+                earliest[i] = min(earliest[i], f)
+    x, angle = bodies.x, bodies.angle
+    for i in range(earliest.shape[0]):
+        back = 1.0 - earliest[i]
+        if back > 0.0:
+            x[i, 0] -= back * body[i, DX]
+            x[i, 1] -= back * body[i, DY]
+            angle[i] -= back * math.atan2(body[i, SIN], body[i, COS])
