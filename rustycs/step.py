@@ -37,7 +37,7 @@ from rustycs.contact_solver import (
     store_impulses,
     warm_start,
 )
-from rustycs.continuous import hold_back_passes
+from rustycs.continuous import SCRATCH_COLUMNS, hold_back_passes
 from rustycs.events import JOINT_BREAK, Events, new_events, record_event
 from rustycs.geometry import Geometry, new_geometry, update_geometry
 from rustycs.impacts import keep_velocities, resolve_impacts
@@ -77,7 +77,7 @@ class Workspace(NamedTuple):
     lanes: np.ndarray  # the solver's lanes of the scheduled contacts
     decay: np.ndarray  # (N, 2) per body the damping factors of a tick, linear and angular
     bounce_velocity: np.ndarray  # (N, BODY_COLUMNS) the solver rows before the soft step (impacts)
-    held_back: np.ndarray  # (N,) scratch of `hold_back_passes`
+    held_back: np.ndarray  # (N, continuous.SCRATCH_COLUMNS) scratch of `hold_back_passes`
     joint_frames: np.ndarray  # (J, FRAME_COLUMNS) the joints' anchors and springs of the tick
     broken: np.ndarray  # (J,) int64 scratch: the joints that broke in a tick
     events: Events
@@ -94,8 +94,8 @@ def new_workspace(n_bodies, n_shapes, n_joints, max_vertices, c_key, c_jn, c_jt)
     return Workspace(new_geometry(n_bodies, n_shapes, max_vertices), pairs, new_contacts(capacity),
                      new_cache(2 * capacity, c_key, c_jn, c_jt), np.empty((n_bodies, BODY_COLUMNS)),
                      new_batches(n_bodies, capacity), np.empty(capacity * LANE_FIELDS),
-                     np.ones((n_bodies, 2)), np.zeros((n_bodies, BODY_COLUMNS)), np.ones(n_bodies),
-                     np.zeros((n_joints, FRAME_COLUMNS)),
+                     np.ones((n_bodies, 2)), np.zeros((n_bodies, BODY_COLUMNS)),
+                     np.ones((n_bodies, SCRATCH_COLUMNS)), np.zeros((n_joints, FRAME_COLUMNS)),
                      np.zeros(n_joints, np.int64), new_events(n_joints + n_bodies + 16), np.zeros(1,
                                                                                                   np.bool_))
 
