@@ -182,6 +182,11 @@ class Trajectory:
         return read_attrs(self._file["parameters"])
 
     @property
+    def overrides(self) -> list[str]:
+        """The `-s KEY=VALUE` texts the run was made with (a sweep's variant: its fixed and swept values)."""
+        return read_strings(self._file["parameters/overrides"])
+
+    @property
     def scene(self) -> str:
         """The resolved scene as YAML (`rustycs run` takes it back and repeats the run)."""
         return self._file["parameters/scene"].asstr()[()]

@@ -4,11 +4,14 @@ overlaps (pymunk's segment, point and bounding-box queries; Box2D's ray casts an
 Each call answers a whole batch in compiled code. The shapes' convex pieces are placed at their bodies'
 present poses and binned in a uniform grid of about one cell per piece; a ray walks the grid's cells in
 order along its path (Amanatides and Woo) and stops at the first cell that starts beyond its closest hit,
-so a ray tests the pieces near its path only. A piece is a convex core (none for a circle, two points for
-a capsule or segment, up to 8 corners) grown by its radius; rays enter it through a face of the core
-pushed out by the radius or through a disc around a corner. A ray that starts inside a shape hits it at
-fraction 0 with the normal against its direction. Inactive bodies (removed, escaped) are never found;
-sensors only with `sensors=True`; `mask` keeps the shapes whose collision category shares a bit with it.
+so a ray tests the pieces near its path only. The helpers are inlined into the batch kernels: a call
+per piece would count references to every array of its records, which costs more than the test.
+
+A piece is a convex core (none for a circle, two points for a capsule or segment, up to 8 corners)
+grown by its radius; rays enter it through a face of the core pushed out by the radius or through a
+disc around a corner. A ray that starts inside a shape hits it at fraction 0 with the normal against
+its direction. Inactive bodies (removed, escaped) are never found; sensors only with `sensors=True`;
+`mask` keeps the shapes whose collision category shares a bit with it.
 """
 
 from __future__ import annotations
@@ -71,7 +74,7 @@ def _place_all(bodies, shapes, sensors, mask):
     return geometry, box, eligible
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _cell_range(grid_origin, cell, nx, ny, x0, y0, x1, y1):
     """The cells (inclusive, clamped to the grid) a box covers."""
     i0 = min(max(int((x0 - grid_origin[0]) / cell), 0), nx - 1)
@@ -119,19 +122,19 @@ def _bin(box, eligible):
 # ------------------------------------------------------------------------------------ one piece
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _core_distance(px, py, geometry, shapes, j):
     """Distance from a point to piece j's core (0 inside a core of 3 or more corners)."""
     k = shapes.count[j]
     if k == 0:
         return math.hypot(px - geometry.centroid[j, 0], py - geometry.centroid[j, 1])
-    verts, normals = geometry.vertices[j], geometry.normals[j]
+    verts, normals = geometry.vertices, geometry.normals  # indexed in place: a view per call costs more
     inside = k >= 3
     nearest = math.inf
     for i in range(k if k >= 3 else 1):
-        ax, ay = verts[i, 0], verts[i, 1]
-        bx, by = verts[(i + 1) % k, 0], verts[(i + 1) % k, 1]
-        if normals[i, 0] * (px - ax) + normals[i, 1] * (py - ay) > 0.0:
+        ax, ay = verts[j, i, 0], verts[j, i, 1]
+        bx, by = verts[j, (i + 1) % k, 0], verts[j, (i + 1) % k, 1]
+        if normals[j, i, 0] * (px - ax) + normals[j, i, 1] * (py - ay) > 0.0:
             inside = False
         ex, ey = bx - ax, by - ay
         t = min(max(((px - ax) * ex + (py - ay) * ey) / max(ex * ex + ey * ey, 1e-300), 0.0), 1.0)
@@ -139,7 +142,7 @@ def _core_distance(px, py, geometry, shapes, j):
     return 0.0 if inside else nearest
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _contains(px, py, geometry, shapes, j):
     """Whether piece j holds the point (lines, having no area, hold none)."""
     if shapes.count[j] == 2 and shapes.radius[j] == 0.0:
@@ -147,7 +150,7 @@ def _contains(px, py, geometry, shapes, j):
     return _core_distance(px, py, geometry, shapes, j) <= shapes.radius[j]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _ray_disc(ox, oy, dx, dy, cx, cy, r):
     """Fraction where o + t d (t in [0, 1]) enters the disc from outside, and the normal there."""
     fx, fy = ox - cx, oy - cy
@@ -163,7 +166,7 @@ def _ray_disc(ox, oy, dx, dy, cx, cy, r):
     return t, (fx + t * dx) / r, (fy + t * dy) / r
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _ray_face(ox, oy, dx, dy, ax, ay, bx, by, nx, ny):
     """Fraction where o + t d crosses the face a-b from its outer side (normal n), and n."""
     den = nx * dx + ny * dy
@@ -177,7 +180,7 @@ def _ray_face(ox, oy, dx, dy, ax, ay, bx, by, nx, ny):
     return t if 0.0 <= along <= ex * ex + ey * ey else MISS
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def ray_piece(ox, oy, dx, dy, geometry, shapes, j):
     """Fraction (0..1, MISS for none) where the ray o + t d first meets piece j, and the normal there."""
     length = math.hypot(dx, dy)
@@ -186,18 +189,18 @@ def ray_piece(ox, oy, dx, dy, geometry, shapes, j):
     k, r = shapes.count[j], shapes.radius[j]
     if k == 0:
         return _ray_disc(ox, oy, dx, dy, geometry.centroid[j, 0], geometry.centroid[j, 1], r)
-    verts, normals = geometry.vertices[j], geometry.normals[j]
+    verts, normals = geometry.vertices, geometry.normals
     best, best_x, best_y = MISS, 0.0, 0.0
     if r > 0.0:
         for i in range(k):
-            t, nx, ny = _ray_disc(ox, oy, dx, dy, verts[i, 0], verts[i, 1], r)
+            t, nx, ny = _ray_disc(ox, oy, dx, dy, verts[j, i, 0], verts[j, i, 1], r)
             if t < best:
                 best, best_x, best_y = t, nx, ny
     for i in range(k):
-        nx, ny = normals[i, 0], normals[i, 1]
+        nx, ny = normals[j, i, 0], normals[j, i, 1]
         i2 = (i + 1) % k
-        t = _ray_face(ox, oy, dx, dy, verts[i, 0] + r * nx, verts[i, 1] + r * ny, verts[i2, 0] + r * nx,
-                      verts[i2, 1] + r * ny, nx, ny)
+        t = _ray_face(ox, oy, dx, dy, verts[j, i, 0] + r * nx, verts[j, i, 1] + r * ny,
+                      verts[j, i2, 0] + r * nx, verts[j, i2, 1] + r * ny, nx, ny)
         if t < best:
             best, best_x, best_y = t, nx, ny
     return best, best_x, best_y
@@ -206,7 +209,7 @@ def ray_piece(ox, oy, dx, dy, geometry, shapes, j):
 # ------------------------------------------------------------------------------------ batches
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _walk(grid, geometry, shapes, ox, oy, dx, dy, ray, stamp, closest, hits, found):
     """Walk one ray's cells in order, testing each piece once. `closest`: stop past the nearest hit and
     return it; else write every hit into `hits` rows from `found` on (as far as they reach). Returns

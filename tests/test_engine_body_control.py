@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from rustycs import Box, Circle, Polygon, World
+from rustycs import Box, Circle, Material, Polygon, World
 
 
 def _free_world() -> tuple[World, int]:
@@ -87,10 +87,12 @@ def test_set_position_and_angle_keep_the_origin_and_the_velocities():
 
 
 def _ball_over_floor() -> tuple[World, int, int]:
+    """A ball 0.5 m over a floor, both of a material that does not bounce."""
     world = World(tick_rate=60.0, precision=4)
     world.add_force((0.0, -9.81))
-    floor = world.add_body(Box(10, 1), position=(0, -0.5), body_type="static", name="floor")
-    ball = world.add_body(Circle(0.5), position=(0, 1.0), name="ball")
+    dull = Material(density=1.0, restitution=0.0, friction=0.5)
+    floor = world.add_body(Box(10, 1), position=(0, -0.5), body_type="static", name="floor", material=dull)
+    ball = world.add_body(Circle(0.5), position=(0, 1.0), name="ball", material=dull)
     return world, floor, ball
 
 

@@ -78,7 +78,7 @@ def test_the_reader_gives_what_h5py_reads(run):
         assert trajectory.summary["status"] == "complete" and trajectory.measures == {}
         assert trajectory.parameters["tick_rate"] == 60.0
         assert trajectory.events["kind"].dtype.kind == "U" and trajectory.joints["name"].shape == (0,)
-        assert "name: five" in trajectory.scene
+        assert "name: five" in trajectory.scene and trajectory.overrides == []
         assert trajectory.contacts(30)["point"].shape[1] == 2
         assert trajectory.body_index("crate") == 2
 
