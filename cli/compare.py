@@ -258,7 +258,7 @@ def _datasets(fa: h5py.File, fb: h5py.File) -> Iterator[tuple[str, tuple[h5py.Da
     shared = sorted(set(fa.get("observables", {})) & set(fb.get("observables", {})))
     for name in shared:
         da, db = fa[f"observables/{name}/value"], fb[f"observables/{name}/value"]
-        if da.shape != db.shape:
+        if da.shape[1:] != db.shape[1:]:
             raise NotComparable(
                 f"not comparable: observable {name} has shape {da.shape} in A and {db.shape} in B"
             )

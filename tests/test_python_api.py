@@ -45,8 +45,8 @@ def test_load_scene_raises_every_problem_located(tmp_path):
         rustycs.load_scene(scene)
     messages = raised.value.messages
     assert len(messages) >= 2 and str(raised.value) == "\n".join(messages)
-    assert any(m.startswith(f"{scene}:9:") and "radius" in m for m in messages)  # the ball's line
-    assert any(m.startswith(f"{scene}:10:") and "widht" in m for m in messages)  # did you mean width
+    assert any(m.startswith(f"{scene}:8:48: ") and "radius" in m for m in messages)  # the ball's radius
+    assert any(m.startswith(f"{scene}:9:38: ") and "did you mean 'width'" in m for m in messages)
     with pytest.raises(rustycs.SceneError, match="no such scene file"):
         rustycs.load_scene(tmp_path / "missing.yaml")
 
