@@ -74,13 +74,14 @@ def test_a_ray_starting_inside_a_shape_hits_it_at_its_start(world):
 
 def test_all_hits_along_a_ray_sorted_by_distance():
     world = World()
-    for k in range(5):  # discs of radius 0.5 at x = 2, 4, ..., 10 on the x axis
+    for k in range(10):  # discs of radius 0.5 at x = 2, 4, ..., 20 on the x axis
         world.add_body(Circle(0.5), position=(2.0 * (k + 1), 0.0))
-    ray, hits = world.ray_cast_all([(0.0, 0.0), (0.0, 1.0)], [(11.0, 0.0), (11.0, 1.0)])
-    assert ray.tolist() == [0] * 5
-    assert hits.body.tolist() == [0, 1, 2, 3, 4]
-    assert hits.distance == pytest.approx([1.5, 3.5, 5.5, 7.5, 9.5], abs=1e-12)
-    assert hits.normal == pytest.approx(np.tile([-1.0, 0.0], (5, 1)), abs=1e-12)
+    # more hits than the first guess of room (4 per ray): the call makes room and asks again
+    ray, hits = world.ray_cast_all([(0.0, 0.0), (0.0, 1.0)], [(21.0, 0.0), (21.0, 1.0)])
+    assert ray.tolist() == [0] * 10
+    assert hits.body.tolist() == list(range(10))
+    assert hits.distance == pytest.approx(2.0 * np.arange(10) + 1.5, abs=1e-12)
+    assert hits.normal == pytest.approx(np.tile([-1.0, 0.0], (10, 1)), abs=1e-12)
 
 
 def test_a_fan_of_rays_in_one_call_matches_single_casts(world):
@@ -122,3 +123,12 @@ def test_removed_bodies_are_not_found():
     world.remove_body(0)
     assert world.ray_cast((0.0, 0.0), (0.0, 10.0)).body == 1
     assert world.point_query((0.0, 5.0)) == -1
+
+
+def test_the_mask_keeps_the_shapes_of_its_categories():
+    world = World()
+    world.add_body(Circle(1.0), position=(0.0, 5.0), collision_category=0b10)
+    world.add_body(Circle(1.0), position=(0.0, 8.0), collision_category=0b01)
+    assert world.ray_cast((0.0, 0.0), (0.0, 10.0)).body == 0
+    assert world.ray_cast((0.0, 0.0), (0.0, 10.0), mask=0b01).body == 1
+    assert world.aabb_query((-1, 0), (1, 10), mask=0b10).tolist() == [0]
