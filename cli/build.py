@@ -75,6 +75,7 @@ def _add_body(world: rustycs.World, scene: Scene, body: Body) -> int:
         gravity_scale=body.gravity_scale,
         fixed_rotation=body.fixed_rotation,
         bullet=body.bullet,
+        name=body.name,
     )
 
 

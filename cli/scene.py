@@ -628,7 +628,9 @@ class World(_Model):
     precision: int = Field(
         defaults.PRECISION,
         ge=1,
-        description="Solver iterations per tick (the thesis's collision precision). >= 1.",
+        description="Solver substeps per tick (the thesis's collision precision): each substep of "
+        "dt / precision applies the forces, solves contacts and joints and moves the bodies. More substeps "
+        "hold stacks and joints stiffer and cost more time per tick. >= 1.",
         examples=[10],
     )
     gravitational_constant: float = Field(
@@ -1154,7 +1156,8 @@ class Scene(_Model):
     )
     world: World = Field(
         World(),
-        description="Tick rate, run length, solver precision, G, bounds and restitution threshold.",
+        description="Tick rate, run length, solver substeps (precision), G, bounds and restitution "
+        "threshold.",
         examples=[{"tick_rate": 240, "ticks": 1200, "precision": 10}],
     )
     forces: list[Force] = Field(

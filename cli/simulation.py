@@ -67,7 +67,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
     import rustycs
 
     from .build import build_world, material_names, shape_material_names
-    from .summary import SummaryTracker, sidecar_path, to_json, write_text_atomic
+    from .summary import SummaryTracker, energy_conservation, sidecar_path, to_json, write_text_atomic
     from .trajectory import (
         BLOCK_FRAMES,
         Frame,
@@ -88,7 +88,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
             print(f"rustycs: compiling the engine (happens once, ~{COMPILE_SECONDS} s)...", file=sys.stderr)
         warm_up()
         names = [body.name for body in scene.bodies]
-        tracker = SummaryTracker(list(world.body_types))
+        tracker = SummaryTracker(list(world.body_types), energy_conservation(scene))
         writer = TrajectoryWriter(
             out, world, names=names, materials=material_names(scene),
             shape_materials=shape_material_names(scene),

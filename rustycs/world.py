@@ -10,6 +10,7 @@ import numpy as np
 
 from rustycs import defaults
 from rustycs import joints as J
+from rustycs.body_control import Body, BodyControl
 from rustycs.body_types import BODY_TYPE_NAMES, DYNAMIC
 from rustycs.events import EVENT_KIND_NAMES
 from rustycs.forces import Forces
@@ -17,6 +18,7 @@ from rustycs.joints import JOINT_COLUMNS, JOINT_TYPE_NAMES, Joints, joint_filter
 from rustycs.kernel_cache import ensure_fresh
 from rustycs.materials import MATERIALS, Material
 from rustycs.pieces import MAX_VERTICES, body_mass, edge_normals, shape_pieces
+from rustycs.queries import WorldQueries
 from rustycs.shapes import Box, Capsule, Chain, Circle, Polygon, Segment, Shape, type_name
 from rustycs.state import BODY_COLUMNS, SHAPE_COLUMNS, Bodies, Shapes, Table
 
@@ -58,7 +60,7 @@ def _point(value) -> np.ndarray:
     return point
 
 
-class World:
+class World(BodyControl, WorldQueries):
     """A 2D world of rigid bodies made of shapes, and joints between them.
 
     Each tick is dt = 1/tick_rate long and runs `precision` solver substeps. Attractors pull with
@@ -87,6 +89,9 @@ class World:
         self._shapes = Table(Shapes, SHAPE_COLUMNS)  # convex pieces, as the kernels collide them
         self._joints = Table(Joints, JOINT_COLUMNS)
         self._shape_list: list[tuple[int, Shape]] = []  # (body, shape) as given
+        self._piece_shapes: list[int] = []  # per convex piece, its shape's index in _shape_list
+        self._names: list[str] = []  # per body, unique
+        self._name_rows: dict[str, int] = {}
         self._inputs: tuple | None = None  # the kernels' inputs, rebuilt when bodies or forces change
         # the step's buffers, kept from block to block (rebuilt when bodies are added)
         self._workspace = None
@@ -127,15 +132,18 @@ class World:
                  linear_damping: float = defaults.LINEAR_DAMPING,
                  angular_damping: float = defaults.ANGULAR_DAMPING,
                  gravity_scale: float = defaults.GRAVITY_SCALE, fixed_rotation: bool = False,
-                 bullet: bool = False) -> int:
-        """Add a body made of one shape or several and return its index. `position` is the body origin
-        (the shapes' offsets and a polygon's vertices are relative to it); the body rotates about its
-        centre of mass. A dynamic body needs a shape with area; `mass` scales the shapes' masses
-        (area x density) to the given total."""
+                 bullet: bool = False, name: str | None = None) -> int:
+        """Add a body made of one shape or several and return its index; `name` (unique, default
+        `<shape type>-<index>`, "compound-<index>" for several shapes) names it in `body_names`.
+        `position` is the body origin (the shapes' offsets and a polygon's vertices are relative to it);
+        the body rotates about its centre of mass. A dynamic body needs a shape with area; `mass` scales
+        the shapes' masses (area x density) to the given total."""
         one = isinstance(shapes, (Circle, Box, Polygon, Capsule, Segment, Chain))
         shapes = [shapes] if one else list(shapes)
         if not shapes:
             raise ValueError("a body needs at least one shape")
+        body_name = self._new_name(name, type_name(shapes[0]) if len(shapes) == 1 else "compound",
+                                   self._bodies.rows)
         if body_type not in _BODY_TYPES:
             raise ValueError(f"unknown body type {body_type!r}")
         code = _BODY_TYPES[body_type]
@@ -153,8 +161,9 @@ class World:
             raise ValueError("an aabb cannot be rotated; use an obb")
         body_material = _material(material)
         materials = [body_material if s.material is None else _material(s.material) for s in shapes]
-        placed = [(shape, m, piece) for shape, m in zip(shapes, materials, strict=True)
-                  for piece in shape_pieces(shape)]
+        pieces_of = [shape_pieces(shape) for shape in shapes]
+        placed = [(shape, m, piece) for shape, m, pieces in zip(shapes, materials, pieces_of, strict=True)
+                  for piece in pieces]
         pieces = [piece for _, _, piece in placed]
         props = body_mass(pieces, [m.density for _, m, _ in placed], [s.has_area for s, _, _ in placed],
                           mass if moves else None)
@@ -187,7 +196,9 @@ class World:
             angular_damping=angular_damping, gravity_scale=gravity_scale, fixed_rotation=fixed_rotation,
             bullet=bullet, extent=extent, first_shape=first_shape,
             shape_count=self._shapes.rows - first_shape)
+        self._piece_shapes += [self.shape_count + k for k, pieces in enumerate(pieces_of) for _ in pieces]
         self._shape_list += [(index, shape) for shape in shapes]
+        self._name_body(body_name, index)
         self._changed()
         return index
 
@@ -553,8 +564,9 @@ class World:
         """(body, shape) of every shape, as given to `add_body`."""
         return list(self._shape_list)
 
-    def set_velocity(self, body: int, velocity, angular_velocity: float | None = None) -> None:
+    def set_velocity(self, body: Body, velocity, angular_velocity: float | None = None) -> None:
         """Set a body's velocity (e.g. to drive a kinematic body); a body of fixed rotation keeps w = 0."""
+        body = self._row(body)
         self._bodies.columns["v"][body] = velocity
         if angular_velocity is not None and not self._bodies.columns["fixed_rotation"][body]:
             self._bodies.columns["w"][body] = angular_velocity

@@ -21,6 +21,7 @@ SHAPES_DEMOS = ["capsule_pile", "cup_of_balls", "curved_ramp", "l_brackets"]  # 
 DEMOS = sorted(
     [
         "all_platforms",
+        "bouncing_ball",
         "material_bounce",
         "pile",
         "pool",

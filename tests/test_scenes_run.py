@@ -15,7 +15,7 @@ SCENES = Path(__file__).resolve().parent.parent / "scenes"
 DEMOS = sorted(SCENES.glob("*.yaml"))
 BENCH = sorted((SCENES / "bench").glob("*.yaml"))
 KEEP_THEIR_BODIES = {"material_bounce", "pile", "pool", "solar_system", "cup_of_balls", "l_brackets",
-                     "capsule_pile"}  # the others let bodies fall off
+                     "capsule_pile", "bouncing_ball"}  # the others let bodies fall off
 # capsule_pile: the engine misses contacts between capsule end caps (see test_capsule_pile_never_overlaps)
 DEEP_OVERLAPS = {"capsule_pile"}
 
@@ -74,7 +74,20 @@ def check_resting_in(path: Path, half_width: float) -> None:
     assert np.hypot(*velocity[dynamic].T).max() < 0.01
 
 
+def check_bouncing_ball(path: Path) -> None:
+    """Dropped from 2 m (its bottom), the ball of restitution 0.8 rises to 0.8^2 x 2 m after its first
+    bounce: it leaves the floor at e times its impact speed."""
+    ball = body_index(path, "ball")
+    height = series(path, "position")[:, ball, 1] - 0.2
+    with h5py.File(path, "r") as file:
+        time = file["particles/bodies/position/time"][()]
+    bounce = time[int(np.argmax(series(path, "velocity")[:, ball, 1] > 0))]
+    flight = (time > bounce) & (time < bounce + 0.9)  # up and down again takes 2 e sqrt(2 h / g) = 1.02 s
+    assert height[flight].max() == pytest.approx(0.8**2 * 2.0, abs=0.02)
+
+
 CHECKS = {
+    "bouncing_ball": check_bouncing_ball,
     "cup_of_balls": check_cup_of_balls,
     "curved_ramp": check_curved_ramp,
     "l_brackets": lambda path: check_resting_in(path, 4.0),
