@@ -3,7 +3,8 @@ shapes (circles, polygons, segments) on one peer body.
 
 Settings follow the peer harness (../shared/bench/peers), so that our numbers can be put next to its:
 pymunk: 10 iterations, collision_slop 0.005 m, no sleeping, no damping; pyb2d3: 4 substeps, sleeping
-off, continuous collision at its default (bullets where the scene has them), single-threaded. Both engines mix materials like Box2D
+off, continuous collision at its default (bullets where the scene has them), single-threaded. Both
+engines mix materials like Box2D
 (friction sqrt(f1*f2), restitution max): pymunk multiplies the two shapes' coefficients, so each shape
 gets sqrt(friction) and static shapes elasticity 1 (the scenes' statics have restitution 0, so the
 product equals Box2D's max). Attractors are applied from Python before every step, as the harness does.
