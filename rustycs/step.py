@@ -232,26 +232,32 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
 
 @njit(cache=True, nogil=True)
 def step_world(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, first_tick, every,
-               frames):
-    """Advance `n_ticks` ticks in place. Releases the GIL, so independent worlds step in parallel
-    threads.
+               frames, status):
+    """Advance until `n_ticks` ticks are done in place (`run_ticks`), or a buffer of `ws` must grow (then
+    `status` says how large: `grown`, and call again with the same status to go on). Releases the GIL,
+    so independent worlds step in parallel threads. Returns nothing: boxing the workspace back into
+    Python on every call cost 80 unpicklings, most of a one-tick call.
 
     With `every` > 0, a frame (`recording.record_frame`) is written into `frames` after every
-    `every`-th tick of the block and after its last; ticks are numbered from `first_tick`.
-    Returns (status, workspace): the block's status (see `run_ticks`; BAD_BODY is -1 or the first body
-    whose state became non-finite in the tick after TICKS_DONE, where the block stopped, its frames so
-    far recorded) and the workspace given, with any buffer that had to grow replaced.
+    `every`-th tick of the block and after its last; ticks are numbered from `first_tick`. In
+    `status` (`new_status`) BAD_BODY is -1 or the first body whose state became non-finite in the tick
+    after TICKS_DONE, where the block stopped, its frames so far recorded.
     """
+    status[NEED_CELLS] = 0
+    status[NEED_PAIRS] = 0
+    status[NEED_CHUNKS] = 0
+    run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, first_tick, every, frames,
+              status)
+
+
+def new_status() -> np.ndarray:
+    """A block's status before its first tick (`step_world`)."""
     status = np.zeros(STATUS_FIELDS, np.int64)
     status[BAD_BODY] = -1
-    ws.events.count[0] = 0  # the caller took the last call's events
-    while True:
-        status[NEED_CELLS] = 0
-        status[NEED_PAIRS] = 0
-        status[NEED_CHUNKS] = 0
-        run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, first_tick, every,
-                  frames, status)
-        if status[BAD_BODY] >= 0 or status[TICKS_DONE] == n_ticks:
-            return status, ws
-        ws = grown(ws, bodies.x.shape[0], status[NEED_CELLS], status[NEED_PAIRS], 2 * status[NEED_PAIRS],
-                   status[NEED_CHUNKS])
+    return status
+
+
+def grow(ws: Workspace, n_bodies: int, status: np.ndarray) -> Workspace:
+    """The workspace with the buffers a stopped block needs (`status`) grown."""
+    return grown(ws, n_bodies, status[NEED_CELLS], status[NEED_PAIRS], 2 * status[NEED_PAIRS],
+                 status[NEED_CHUNKS])

@@ -449,7 +449,16 @@ class World(BodyControl, WorldQueries):
         written into its rows from 0 on, with no Python per tick; returns the number of frames
         written. The buffer must hold them all: ceil(n / every) rows.
         """
-        from rustycs.step import BAD_BODY, ESCAPED, FRAMES, TICKS_DONE, new_workspace, step_world
+        from rustycs.step import (
+            BAD_BODY,
+            ESCAPED,
+            FRAMES,
+            TICKS_DONE,
+            grow,
+            new_status,
+            new_workspace,
+            step_world,
+        )
 
         if n <= 0:
             return 0
@@ -464,9 +473,14 @@ class World(BodyControl, WorldQueries):
             last = self._last_contacts()
             self._workspace = new_workspace(self.body_count, self._shapes.rows, self._joints.rows,
                                             MAX_VERTICES, last.key, last.normal_impulse, last.tangent_impulse)
-        status, self._workspace = step_world(n, inputs.bodies, inputs.shapes, inputs.joints,
-                                             inputs.joint_filter, inputs.forces, self._settings(),
-                                             self._workspace, self.tick, every, tuple(record.values()))
+        status, frames, settings = new_status(), tuple(record.values()), self._settings()
+        self._workspace.events.count[0] = 0  # the last call's events were taken
+        while True:
+            step_world(n, inputs.bodies, inputs.shapes, inputs.joints, inputs.joint_filter, inputs.forces,
+                       settings, self._workspace, self.tick, every, frames, status)
+            if status[BAD_BODY] >= 0 or status[TICKS_DONE] == n:
+                break
+            self._workspace = grow(self._workspace, self.body_count, status)
         self._contact_rows = None
         self.escaped_count += int(status[ESCAPED])
         done, recorded, bad = int(status[TICKS_DONE]), int(status[FRAMES]), int(status[BAD_BODY])
