@@ -613,6 +613,16 @@ class Rect(_Model):
         return self
 
 
+from .scene_measures import (  # noqa: E402  (built on the models above)
+    DURATION_FIELD,
+    MEASURES_FIELD,
+    STOP_WHEN_FIELD,
+    Measure,
+    StopCondition,
+    measure_problems,
+)
+
+
 class World(_Model):
     """Time stepping and world-wide settings."""
 
@@ -646,6 +656,19 @@ class World(_Model):
         description="Contacts approaching slower than this, m/s, do not bounce (addition).",
         examples=[1.0],
     )
+    duration: float | None = DURATION_FIELD
+    stop_when: list[StopCondition] = STOP_WHEN_FIELD
+
+    @property
+    def run_ticks(self) -> int:
+        """The run length in ticks: from `duration` when given, else `ticks`."""
+        return self.ticks if self.duration is None else round(self.duration * self.tick_rate)
+
+    @model_serializer(mode="wrap")
+    def _one_run_length(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        data = handler(self)
+        data.pop("ticks" if self.duration is not None else "duration", None)
+        return data
 
 
 class Output(_Model):
@@ -653,6 +676,11 @@ class Output(_Model):
 
     every: int = Field(1, ge=1, description="Record every N ticks (tick 0 is always recorded).", examples=[4])
     contacts: bool = Field(False, description="Also record every contact point.", examples=[True])
+    events: bool = Field(
+        False,
+        description="Also record contact_begin / contact_end events (the other events always).",
+        examples=[True],
+    )
 
 
 # ----------------------------------------------------------------------------------------------- generators
@@ -1112,6 +1140,8 @@ class Generator(_Model):
         return self
 
 
+from .scene_emitters import EMITTERS_FIELD, SINKS_FIELD, Emitter, Sink  # noqa: E402  (built on the above)
+
 # -------------------------------------------------------------------------------------------------- scene
 
 
@@ -1193,6 +1223,9 @@ class Scene(_Model):
             ]
         ],
     )
+    emitters: list[Emitter] = EMITTERS_FIELD
+    sinks: list[Sink] = SINKS_FIELD
+    measures: list[Measure] = MEASURES_FIELD
     output: Output = Field(
         Output(),
         description="Recording interval and whether contacts are recorded.",
@@ -1296,7 +1329,7 @@ def scene_problems(data: Mapping[str, Any]) -> list[Problem]:
                 if isinstance(shape, dict):
                     at = (*place, "choice", k) if shape is not spec else place
                     check_generated_material(shape.get("material"), ("generators", g, *at, "material"))
-    return problems
+    return problems + measure_problems(data, body_names, generator_names)
 
 
 def _choices(spec: Any) -> list[Any]:
