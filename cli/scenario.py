@@ -19,7 +19,8 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True)
 class RunPlan:
-    """The scene with its emitted bodies after its own (`scene.bodies`), and when each body appears and goes."""
+    """The scene with its emitted bodies after its own (`scene.bodies`), and when each body appears and
+    goes."""
 
     scene: Scene
     spawn_ticks: list[int]
@@ -35,7 +36,8 @@ def plan_run(scene: Scene, ticks: int) -> RunPlan:
     emitted = emitted_bodies(scene, ticks)
     listed = len(scene.bodies)
     return RunPlan(scene.model_copy(update={"bodies": [*scene.bodies, *emitted.bodies]}),
-                   [0] * listed + emitted.spawn_ticks, [None] * listed + emitted.remove_ticks, emitted.by_emitter)
+                   [0] * listed + emitted.spawn_ticks, [None] * listed + emitted.remove_ticks,
+                   emitted.by_emitter)
 
 
 class _Sets:
@@ -74,7 +76,8 @@ class _Sets:
         return rows
 
     def names(self) -> dict[str, set[str]]:
-        return {"bodies": set(self.row), "generators": set(self.generated), "emitters": set(self.plan.emitted)}
+        return {"bodies": set(self.row), "generators": set(self.generated),
+                "emitters": set(self.plan.emitted)}
 
 
 def attach(world: rustycs.World, plan: RunPlan, contact_events: bool) -> None:
