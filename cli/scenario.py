@@ -8,13 +8,12 @@ import re
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from .scene import Scene  # before the modules below, whose models the scene's models import
 from .scene_emitters import emitted_bodies
 from .scene_measures import Inside, OnEvent, describe_condition, split_of
 
 if TYPE_CHECKING:
     import rustycs
-
-    from .scene import Scene
 
 
 @dataclass(frozen=True)
