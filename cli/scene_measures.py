@@ -311,7 +311,8 @@ def of_problem(of: str, names: Mapping[str, set[str]], counted: bool) -> str | N
         if kind in SET_KINDS:
             known = sorted(names.get(kind, ()))
             name = rest.split(".")[0]
-            return f"unknown {kind[:-1]} '{name}'{did_you_mean(name, known)}"
+            what = {"bodies": "body", "generators": "generator", "emitters": "emitter"}[kind]
+            return f"unknown {what} '{name}'{did_you_mean(name, known)}"
         return ("expected bodies.<name>, generators.<name>, emitters.<name>, all or observables.<name>, "
                 f"then a quantity{did_you_mean(kind, [*SET_KINDS, 'all', 'observables'])}")
     quantity = parts[2]
