@@ -1119,6 +1119,12 @@ class Generator(_Model):
     )
     fixed_rotation: bool = Field(False, description="fixed_rotation of every body.", examples=[True])
     bullet: bool = Field(False, description="bullet of every body.", examples=[True])
+    placement: Literal["free", "no_overlap"] = Field(
+        "free",
+        description="free: positions drawn in `region` as they come; no_overlap: a body whose bounding "
+        "circle overlaps one placed before is drawn again (an error after 100 draws).",
+        examples=["no_overlap"],
+    )
 
     _shape_or_shapes = model_validator(mode="wrap")(_shape_keys)
 
