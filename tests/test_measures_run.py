@@ -81,6 +81,10 @@ def test_projectile_range_apex_and_value_at_1s_against_the_closed_forms(cli, tmp
     with h5py.File(tmp_path / "p.h5", "r") as file:
         attrs = file["parameters/summary"].attrs
         assert attrs["measure.range"] == measures["range"] and attrs["measure.apex"] == measures["apex"]
+    out = tmp_path / "height.png"
+    assert cli("plot", tmp_path / "p.h5", "--body", "ball", "--y", "position.y", "-o", out).exit_code == 0
+    assert out.read_bytes()[:4] == b"\x89PNG"
+    assert cli("plot", tmp_path / "p.h5", "--body", "bal", "-o", out).exit_code == 2
 
 
 @pytest.mark.usefixtures("compiled_engine")
