@@ -668,7 +668,7 @@ class World(_Model):
     def _one_run_length(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
         data = handler(self)
         data.pop("ticks" if self.duration is not None else "duration", None)
-        return data
+        return _without_unused(data, stop_when=[])
 
 
 class Output(_Model):
@@ -681,6 +681,16 @@ class Output(_Model):
         description="Also record contact_begin / contact_end events (the other events always).",
         examples=[True],
     )
+
+    @model_serializer(mode="wrap")
+    def _written_when_used(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        return _without_unused(handler(self), events=False)
+
+
+def _without_unused(data: dict[str, Any], **unused: Any) -> dict[str, Any]:
+    """A model's data without the keys of emitters, measures and stop conditions left at these values, so a
+    scene that does not use them resolves to the same text (and hash) as before they existed."""
+    return {key: value for key, value in data.items() if key not in unused or value != unused[key]}
 
 
 # ----------------------------------------------------------------------------------------------- generators
@@ -1247,6 +1257,10 @@ class Scene(_Model):
             if generator.name is None:
                 generator.name = default_generator_name(i)
         return self
+
+    @model_serializer(mode="wrap")
+    def _written_when_used(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        return _without_unused(handler(self), emitters=[], sinks=[], measures=[])
 
     def material_of(self, body: Body) -> Material:
         """The material a body uses (user materials take precedence over presets)."""
