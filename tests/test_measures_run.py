@@ -219,3 +219,11 @@ def test_bad_measures_and_conditions_at_their_file_line_column(cli, tmp_path: Pa
     assert len(lines) == len(expected), result.stderr
     for line, start in zip(lines, expected, strict=True):
         assert line.startswith(start), (line, start)
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_run_duration_option_sets_the_ticks(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    scene = write(tmp_path, DROP)
+    assert run(cli, scene, tmp_path / "d.h5", "--duration", "0.1")["ticks"] == 24  # 0.1 s at 240 Hz
+    both = cli("run", scene, "--out", tmp_path / "e.h5", "--duration", "0.1", "--ticks", "5")
+    assert both.exit_code == 2 and "give --ticks or --duration, not both" in both.stderr
