@@ -36,7 +36,7 @@ NOT_CONSERVED = "not conserved"  # damping, joints, moving kinematic bodies, emi
 DESCRIPTIONS = {  # key: meaning, in output order (documents every statistic)
     "scene": "scene name",
     "scene_sha256": "SHA-256 of the resolved scene text",
-    "status": "complete | interrupted | diverged",
+    "status": "complete | stopped | interrupted | diverged",
     "seed": "seed of the generators",
     "ticks": "ticks completed",
     "frames": "frames recorded (tick 0 included)",
@@ -66,6 +66,8 @@ DESCRIPTIONS = {  # key: meaning, in output order (documents every statistic)
     "escaped_bodies": "dynamic bodies that left the world bounds",
     "bodies_at_rest": "active dynamic bodies at rest at the end",
     "divergence": "where a non-finite value appeared (diverged runs)",
+    "stop_reason": "the world.stop_when condition that ended the run (stopped runs), as written",
+    "measures": "the scene's measures by name: a number, null, or a histogram's counts per bin",
 }
 
 
@@ -161,7 +163,7 @@ class SummaryTracker:
             "bodies_at_rest": int(at_rest.sum()),
             "divergence": divergence,
         }
-        return {key: values[key] for key in DESCRIPTIONS}
+        return {key: values.get(key) for key in DESCRIPTIONS}
 
 
 def energy_conservation(scene: Scene) -> str:
@@ -222,7 +224,9 @@ def summary_table(summary: dict[str, Any], title: str) -> Table:
     table = Table(title=title, show_header=False, title_justify="left")
     table.add_column("statistic", style="bold")
     table.add_column("value", overflow="fold")
-    for key, value in summary.items():
-        if value is not None:
+    from .scenario import measure_columns
+
+    for key, value in {**summary, **measure_columns(summary.get("measures") or {})}.items():
+        if value is not None and key != "measures":
             table.add_row(key, f"{value:.6g}" if isinstance(value, float) else str(value))
     return table

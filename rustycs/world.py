@@ -21,6 +21,7 @@ from rustycs.pieces import MAX_VERTICES, body_mass, edge_normals, shape_pieces
 from rustycs.queries import WorldQueries
 from rustycs.shapes import Box, Capsule, Chain, Circle, Polygon, Segment, Shape, type_name
 from rustycs.state import BODY_COLUMNS, SHAPE_COLUMNS, Bodies, Shapes, Table
+from rustycs.world_scenario import WorldScenario
 
 _BODY_TYPES = {name: code for code, name in enumerate(BODY_TYPE_NAMES)}
 
@@ -44,13 +45,15 @@ def _material(material: Material | str) -> Material:
 
 
 class KernelInputs(NamedTuple):
-    """What the kernels read of a world: its records (bodies, shapes, joints and their filter, forces)."""
+    """What the kernels read of a world: its records (bodies, shapes, joints and their filter, forces,
+    and the scenario: `rustycs.scenario.Scenario`)."""
 
     bodies: Bodies
     shapes: Shapes
     joints: Joints
     joint_filter: J.JointFilter
     forces: Forces
+    scenario: tuple
 
 
 def _point(value) -> np.ndarray:
@@ -60,11 +63,12 @@ def _point(value) -> np.ndarray:
     return point
 
 
-class World(BodyControl, WorldQueries):
+class World(BodyControl, WorldQueries, WorldScenario):
     """A 2D world of rigid bodies made of shapes, and joints between them.
 
     Each tick is dt = 1/tick_rate long and runs `precision` solver substeps. Attractors pull with
-    the acceleration G*M/max(d, min_distance)^2; forces are constant accelerations.
+    the acceleration G*M/max(d, min_distance)^2; forces are constant accelerations. Bodies may appear
+    and go during a run, and measures and stop conditions watch it (`WorldScenario`).
     """
 
     def __init__(self, tick_rate: float = defaults.TICK_RATE, precision: int = defaults.PRECISION,
@@ -97,6 +101,7 @@ class World(BodyControl, WorldQueries):
         self._workspace = None
         self._contact_rows = None  # the last tick's contact points, built from the workspace when asked
         self._no_frames: dict[str, np.ndarray] | None = None  # the step's buffer when nothing is recorded
+        self._init_scenario()
 
     @property
     def body_count(self) -> int:
@@ -132,12 +137,15 @@ class World(BodyControl, WorldQueries):
                  linear_damping: float = defaults.LINEAR_DAMPING,
                  angular_damping: float = defaults.ANGULAR_DAMPING,
                  gravity_scale: float = defaults.GRAVITY_SCALE, fixed_rotation: bool = False,
-                 bullet: bool = False, name: str | None = None) -> int:
+                 bullet: bool = False, name: str | None = None, spawn_tick: int = 0,
+                 remove_tick: int | None = None) -> int:
         """Add a body made of one shape or several and return its index; `name` (unique, default
         `<shape type>-<index>`, "compound-<index>" for several shapes) names it in `body_names`.
         `position` is the body origin (the shapes' offsets and a polygon's vertices are relative to it);
         the body rotates about its centre of mass. A dynamic body needs a shape with area; `mass` scales
-        the shapes' masses (area x density) to the given total."""
+        the shapes' masses (area x density) to the given total. A body with `spawn_tick` > 0 is inactive
+        until the end of that tick (an emitted body: its row is reserved now); with `remove_tick`, it is
+        removed at the end of that tick."""
         one = isinstance(shapes, (Circle, Box, Polygon, Capsule, Segment, Chain))
         shapes = [shapes] if one else list(shapes)
         if not shapes:
@@ -170,6 +178,7 @@ class World(BodyControl, WorldQueries):
         rotates = moves and not fixed_rotation
         c, s = math.cos(angle), math.sin(angle)
         center = np.asarray(position, dtype=np.float64) + np.array([[c, -s], [s, c]]) @ props.center
+        present = self._timing(spawn_tick, remove_tick)
         index = self._bodies.rows
         first_shape = self._shapes.rows
         extent = 0.0
@@ -192,7 +201,7 @@ class World(BodyControl, WorldQueries):
             x=center, angle=angle, v=velocity, w=0.0 if fixed_rotation else angular_velocity,
             mass=props.mass if moves else np.inf, inertia=props.inertia if rotates else np.inf,
             inv_mass=1.0 / props.mass if moves else 0.0, inv_inertia=1.0 / props.inertia if rotates else 0.0,
-            body_type=code, active=True, origin=-props.center, linear_damping=linear_damping,
+            body_type=code, active=present, origin=-props.center, linear_damping=linear_damping,
             angular_damping=angular_damping, gravity_scale=gravity_scale, fixed_rotation=fixed_rotation,
             bullet=bullet, extent=extent, first_shape=first_shape,
             shape_count=self._shapes.rows - first_shape)
@@ -432,27 +441,31 @@ class World(BodyControl, WorldQueries):
                 attractor_range=np.array([t["range"] for t in att], dtype=np.float64),
                 attractor_min_distance=np.array([t["min_distance"] for t in att], dtype=np.float64))
             joints = self._joints.view()
-            self._inputs = KernelInputs(self._bodies.view(), self._shapes.view(), joints,
-                                        joint_filter(self.body_count, joints), forces)
+            bodies, shapes = self._bodies.view(), self._shapes.view()
+            self._inputs = KernelInputs(bodies, shapes, joints, joint_filter(self.body_count, joints), forces,
+                                        self._scenario(bodies, shapes))
         return self._inputs
 
     def _settings(self):
         from rustycs.step import Settings
 
         bounds = np.zeros(4) if self.bounds is None else np.array([*self.bounds[0], *self.bounds[1]])
-        return Settings(self.dt, self.precision, self.restitution_threshold, bounds, self.bounds is not None)
+        return Settings(self.dt, self.precision, self.restitution_threshold, bounds, self.bounds is not None,
+                        self._records_contacts())
 
     def step(self, n: int = 1, record: dict[str, np.ndarray] | None = None, every: int = 1) -> int:
         """Advance n ticks in compiled code. Raises SimulationDiverged on a non-finite state.
 
         With `record` (a `frame_buffer`), the state after every `every`-th tick and after the last is
         written into its rows from 0 on, with no Python per tick; returns the number of frames
-        written. The buffer must hold them all: ceil(n / every) rows.
+        written. The buffer must hold them all: ceil(n / every) rows. A stop condition that holds ends
+        the call early, after the tick where it held (its frame recorded): `stop_condition` names it.
         """
         from rustycs.step import (
             BAD_BODY,
             ESCAPED,
             FRAMES,
+            STOPPED,
             TICKS_DONE,
             grow,
             new_status,
@@ -473,15 +486,17 @@ class World(BodyControl, WorldQueries):
             last = self._last_contacts()
             self._workspace = new_workspace(self.body_count, self._shapes.rows, self._joints.rows,
                                             MAX_VERTICES, last.key, last.normal_impulse, last.tangent_impulse)
+        self._fold_initial(inputs)
         status, frames, settings = new_status(), tuple(record.values()), self._settings()
         self._workspace.events.count[0] = 0  # the last call's events were taken
         while True:
             step_world(n, inputs.bodies, inputs.shapes, inputs.joints, inputs.joint_filter, inputs.forces,
-                       settings, self._workspace, self.tick, every, frames, status)
-            if status[BAD_BODY] >= 0 or status[TICKS_DONE] == n:
+                       settings, self._workspace, inputs.scenario, self.tick, every, frames, status)
+            if status[BAD_BODY] >= 0 or status[STOPPED] >= 0 or status[TICKS_DONE] == n:
                 break
             self._workspace = grow(self._workspace, self.body_count, status)
         self._contact_rows = None
+        self.stop_condition = int(status[STOPPED]) if status[STOPPED] >= 0 else None
         self.escaped_count += int(status[ESCAPED])
         done, recorded, bad = int(status[TICKS_DONE]), int(status[FRAMES]), int(status[BAD_BODY])
         if bad >= 0:
@@ -502,14 +517,17 @@ class World(BodyControl, WorldQueries):
         from rustycs.recording import record_frame
 
         inputs = self._kernel_inputs()
+        points, n_points = self._contact_points()
+        record_frame(tuple(frames.values()), row, self.tick, inputs.bodies, inputs.joints, inputs.forces,
+                     points, n_points)
+
+    def _contact_points(self):
+        """The last tick's contact points (the step's record) and how many are in use."""
         if self._workspace is None:
             from rustycs.narrow_phase import new_contacts
 
-            points, n_points = new_contacts(0).points, 0
-        else:
-            points, n_points = self._workspace.contacts.points, int(self._workspace.contacts.count[1])
-        record_frame(tuple(frames.values()), row, self.tick, inputs.bodies, inputs.joints, inputs.forces,
-                     points, n_points)
+            return new_contacts(0).points, 0
+        return self._workspace.contacts.points, int(self._workspace.contacts.count[1])
 
     # ------------------------------------------------------------------ state
     def _get(self, name: str) -> np.ndarray:

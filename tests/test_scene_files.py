@@ -18,6 +18,7 @@ from rustycs_cli.scene import PRESET_MATERIALS, Capsule, Chain, Circle, Obb, Pol
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = sorted((ROOT / "scenes").rglob("*.yaml"))
 SHAPES_DEMOS = ["capsule_pile", "cup_of_balls", "curved_ramp", "l_brackets"]  # bodies made of shapes
+MEASURES_DEMOS = ["cup_goal", "dominoes", "galton_board", "projectile"]  # emitters, sensors, measures
 DEMOS = sorted(
     [
         "all_platforms",
@@ -29,6 +30,7 @@ DEMOS = sorted(
         "slope",
         "solar_system",
         *SHAPES_DEMOS,
+        *MEASURES_DEMOS,
     ]
 )
 BENCH = ["S1_bounce", "S2_pyramid20", "S3_pyramid40", "S4_rain1000", "S5_polypile500", "S6_orbits",
