@@ -273,8 +273,8 @@ def step_world(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, 
     status[NEED_PAIRS] = 0
     status[NEED_CHUNKS] = 0
     status[NEED_EVENTS] = 0
-    run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, scenario, first_tick, every,
-              frames, status)
+    run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, scenario, first_tick,
+              every, frames, status)
 
 
 def new_status() -> np.ndarray:
