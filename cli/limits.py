@@ -61,6 +61,7 @@ MAX_NAME_LENGTH = Limit("MAX_NAME_LENGTH", 100, "characters")
 MAX_TEXT_LENGTH = Limit("MAX_TEXT_LENGTH", 100_000, "characters")  # a scene's description
 MAX_SCENE_BYTES = Limit("MAX_SCENE_BYTES", 32 * 2**20, "bytes")  # a scene file
 MAX_YAML_DEPTH = Limit("MAX_YAML_DEPTH", 64, "levels")  # nesting of YAML collections
+MAX_YAML_VALUES = Limit("MAX_YAML_VALUES", 10_000_000, "values")  # a document with its aliases expanded
 MAX_VARIANTS = Limit("MAX_VARIANTS", 10_000)  # variants of one sweep
 
 # ---------------------------------------------------------------------------------- runs

@@ -18,6 +18,7 @@ from pydantic import ValidationError
 from pydantic_core import ErrorDetails
 from yaml.nodes import Node
 
+from . import limits
 from .errors import UserError
 from .generators import expand_generators
 from .overrides import NAMED_LISTS, apply_overrides
@@ -30,6 +31,7 @@ from .scene import (
     scene_problems,
     union_tags,
 )
+from .scene_size import size_problems
 from .yaml_source import (
     Document,
     dump_scene_yaml,
@@ -58,7 +60,7 @@ def load_scene(path: str | Path, overrides: Sequence[str] = (), seed: int | None
     Raises UserError with every problem found."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = read_scene_text(path)
     except FileNotFoundError:
         raise UserError(f"{path}: no such scene file") from None
     except IsADirectoryError:
@@ -68,6 +70,17 @@ def load_scene(path: str | Path, overrides: Sequence[str] = (), seed: int | None
     except OSError as err:
         raise UserError(f"{path}: cannot read the scene: {err.strerror or err}") from None
     return load_scene_text(text, str(path), overrides, seed)
+
+
+def read_scene_text(path: Path) -> str:
+    """The text of a scene file, refused when larger than MAX_SCENE_BYTES (also a device that never
+    ends, like /dev/zero, without reading more than that)."""
+    limit = int(limits.MAX_SCENE_BYTES.value)
+    with path.open("rb") as handle:
+        data = handle.read(limit + 1)
+    if len(data) > limit:
+        raise UserError(f"{path}: the scene file is larger than {limits.MAX_SCENE_BYTES}")
+    return data.decode("utf-8")
 
 
 def load_scene_text(
@@ -89,6 +102,9 @@ def load_scene_text(
         changed.append((("seed",), f"--seed {seed}"))
     data.setdefault("name", Path(source).stem)
     locate = _Locator(document, data, changed)
+    too_large = [locate.problem(loc, message) for loc, message in size_problems(data)]
+    if too_large:
+        raise UserError(override_errors + _sorted(too_large))
     problems = [
         locate.at_node(node, path, f"duplicate key '{path[-1]}' (YAML keeps only the last)")
         for node, path in duplicate_keys(document.root)
