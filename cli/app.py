@@ -6,6 +6,7 @@ stays fast.
 
 from __future__ import annotations
 
+import signal
 import sys
 
 import typer
@@ -27,7 +28,9 @@ for module in (run, validate, schema, sweep, compare, render, plot, info, bench)
 
 
 def main() -> None:
-    """Entry point: run the app, turning user errors into messages and exit code 2."""
+    """Entry point: run the app, turning user errors into messages and exit code 2. SIGTERM interrupts
+    like Ctrl-C (a run installs its own handler, to end with a valid file)."""
+    signal.signal(signal.SIGTERM, _interrupt)
     try:
         app()
     except UserError as err:
@@ -37,3 +40,7 @@ def main() -> None:
     except KeyboardInterrupt:
         print("rustycs: interrupted", file=sys.stderr)
         sys.exit(130)
+
+
+def _interrupt(_signum: int, _frame: object) -> None:
+    raise KeyboardInterrupt

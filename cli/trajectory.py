@@ -192,20 +192,6 @@ def temporary_path(path: Path) -> Path:
     return path.with_name(f".{path.name}.tmp-{os.getpid()}")
 
 
-def check_output_path(path: Path) -> None:
-    """Fail early (before simulating) when `path` cannot be written: missing or read-only folder.
-
-    A folder without any write permission bit counts as read-only even for root, who could write it.
-    """
-    folder = path.parent
-    if path.is_dir():
-        raise UserError(f"{path}: is a folder; give a file name such as {path / 'run.h5'}")
-    if not folder.is_dir():
-        raise UserError(f"{path}: output folder {folder} does not exist")
-    if not os.access(folder, os.W_OK | os.X_OK) or not folder.stat().st_mode & 0o222:
-        raise UserError(f"{path}: output folder {folder} is not writable")
-
-
 class _Growing:
     """A dataset growing along its first axis; rows wait in an in-memory buffer until `flush`."""
 
@@ -464,9 +450,8 @@ class TrajectoryWriter:
         try:
             self._flush()
             group = self._file["parameters"]
-            group.attrs.update({k: v for k, v in parameters.items() if v is not None})
-            statistics = group.create_group("summary", track_order=True)
-            statistics.attrs.update({k: v for k, v in summary.items() if v is not None})
+            _set_attrs(group, parameters)
+            _set_attrs(group.create_group("summary", track_order=True), summary)
             self._file.close()
             os.replace(self.temporary, self.path)
         except BaseException:
@@ -479,6 +464,18 @@ class TrajectoryWriter:
         if self._file.id.valid:
             self._file.close()
         self.temporary.unlink(missing_ok=True)
+
+
+def _set_attrs(node: h5py.Group, values: dict[str, Any]) -> None:
+    """Store values as attributes, None left out; a value HDF5 cannot hold as it is (an integer beyond
+    64 bits) is stored as its text, so that the frames of a finished run are never lost over it."""
+    for key, value in values.items():
+        if value is None:
+            continue
+        try:
+            node.attrs[key] = value
+        except (TypeError, ValueError, OverflowError):
+            node.attrs[key] = str(value)
 
 
 def _write_empty_events(file: h5py.File) -> None:
