@@ -21,18 +21,38 @@ from .errors import UserError
 Path = tuple[str | int, ...]
 
 
-class SceneLoader(yaml.SafeLoader):
+class _ResolveOnce:
+    """Implicit tags of plain scalars remembered per class and text: a scene repeats the same few values
+    (0.5, circle, dynamic) thousands of times, and PyYAML tries every pattern on each."""
+
+    def resolve(self, kind: Any, value: Any, implicit: Any) -> Any:
+        if kind is not ScalarNode or not implicit[0] or len(value) > 64:
+            return super().resolve(kind, value, implicit)  # type: ignore[misc]
+        known = type(self).__dict__.get("_resolved")
+        if known is None:
+            known = {}
+            type.__setattr__(type(self), "_resolved", known)
+        key = (value, implicit[1])
+        if key not in known:
+            if len(known) > 100_000:
+                known.clear()
+            known[key] = super().resolve(kind, value, implicit)  # type: ignore[misc]
+        return known[key]
+
+
+class SceneLoader(_ResolveOnce, yaml.SafeLoader):
     """SafeLoader that also reads 1e-3, 1E5, 1.5e3, -2.5e-3 and .5e2 as floats, and 1:30 as text (not
     YAML 1.1's sexagesimal 90)."""
 
 
-class FastSceneLoader(yaml.CSafeLoader):  # type: ignore[misc]
+class FastSceneLoader(_ResolveOnce, yaml.CSafeLoader):  # type: ignore[misc]
     """The same, parsed by libyaml (several times faster); its error messages are less clear, so a
     document it refuses is parsed again by SceneLoader for the message."""
 
 
-class SceneDumper(yaml.SafeDumper):
-    """SafeDumper that quotes strings SceneLoader would read as floats (a body named "1e3")."""
+class SceneDumper(_ResolveOnce, yaml.CSafeDumper):  # type: ignore[misc]
+    """SafeDumper (libyaml's: the same text, faster) that quotes strings SceneLoader would read as floats
+    (a body named "1e3")."""
 
 
 _EXPONENT_FLOAT = re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$")
@@ -133,11 +153,29 @@ def check_tree(root: Node) -> None:
     """Raise TreeError for nesting deeper than MAX_YAML_DEPTH, a recursive alias (`a: &x [*x]`) or a
     document that expands to more than MAX_YAML_VALUES values through aliases (a billion laughs). Each
     node is visited once, however many aliases point at it."""
+    visited: set[int] = set()
+    shared = False
+    collections: list[tuple[Node, int]] = [(root, 1)]
+    while collections:
+        node, depth = collections.pop()
+        if id(node) in visited:
+            shared = True
+            continue
+        visited.add(id(node))
+        if depth > limits.MAX_YAML_DEPTH.value:
+            raise TreeError(None, None, f"nesting deeper than {limits.MAX_YAML_DEPTH}", node.start_mark)
+        collections.extend((c, depth + 1) for c in _children(node) if not isinstance(c, ScalarNode))
+    if shared:
+        _check_aliases(root)
+
+
+def _check_aliases(root: Node) -> None:
+    """TreeError for a value that contains itself, or aliases that expand beyond MAX_YAML_VALUES."""
     sizes: dict[int, int] = {}  # id(node): values it expands to, once known
-    stack: list[tuple[Node, int, bool]] = [(root, 1, False)]
+    stack: list[tuple[Node, bool]] = [(root, False)]
     open_nodes: set[int] = set()
     while stack:
-        node, depth, done = stack.pop()
+        node, done = stack.pop()
         children = _children(node)
         if done:
             open_nodes.discard(id(node))
@@ -147,11 +185,9 @@ def check_tree(root: Node) -> None:
             continue
         if id(node) in open_nodes:
             raise TreeError(None, None, "a recursive alias (a value that contains itself)", node.start_mark)
-        if depth > limits.MAX_YAML_DEPTH.value:
-            raise TreeError(None, None, f"nesting deeper than {limits.MAX_YAML_DEPTH}", node.start_mark)
         open_nodes.add(id(node))
-        stack.append((node, depth, True))
-        stack.extend((child, depth + 1, False) for child in children if id(child) not in sizes)
+        stack.append((node, True))
+        stack.extend((child, False) for child in children if id(child) not in sizes)
     if sizes[id(root)] > limits.MAX_YAML_VALUES.value:
         raise TreeError(None, None, f"the aliases expand to more than {limits.MAX_YAML_VALUES}",
                         root.start_mark)
@@ -220,7 +256,7 @@ def duplicate_keys(root: Node | None) -> list[tuple[Node, Path]]:
 
 def _flow(value: Any) -> str:
     """A value on one line in YAML flow style."""
-    text = yaml.dump(value, Dumper=SceneDumper, default_flow_style=True, width=float("inf"), sort_keys=False)
+    text = yaml.dump(value, Dumper=SceneDumper, default_flow_style=True, width=2**30, sort_keys=False)
     return text.strip()
 
 
