@@ -43,4 +43,5 @@ def main() -> None:
 
 
 def _interrupt(_signum: int, _frame: object) -> None:
-    raise KeyboardInterrupt
+    print("rustycs: interrupted", file=sys.stderr)
+    sys.exit(130)

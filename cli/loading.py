@@ -319,6 +319,7 @@ class _Locator:
             item = data[part] if isinstance(data, (dict, list)) else None
             name = item.get("name") if isinstance(item, dict) and isinstance(part, int) else None
             in_named_list = len(parts) == 1 and parts[0] in NAMED_LISTS
-            parts.append(name if in_named_list and isinstance(name, str) else str(part))
+            named = in_named_list and isinstance(name, str) and name.isprintable() and "." not in name
+            parts.append(name if named else str(part))
             data = item
         return ".".join(parts) or "scene"

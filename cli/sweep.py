@@ -95,8 +95,16 @@ def plan_sweep(
 
     Raises one UserError listing the problems of all invalid variants, before anything runs.
     """
-    from .simulation import load_source
+    from .limits import MAX_VARIANTS
+    from .output_files import check_output_folder, inside
+    from .simulation import check_run_options, load_source
 
+    check_run_options(ticks, every)
+    if out_dir is not None:
+        check_output_folder(out_dir)
+    count = functools.reduce(lambda product, key: product * len(key.values), swept, 1)
+    if count > MAX_VARIANTS.value:
+        raise UserError(f"the sweep has {count} variants, more than {MAX_VARIANTS}; sweep fewer values")
     combinations = list(itertools.product(*(key.values for key in swept)))
     width = len(str(len(combinations) - 1))
     problems: dict[str, list[str]] = {}
@@ -115,7 +123,7 @@ def plan_sweep(
                 )
             continue
         scene_name = loaded.scene.name
-        folder = out_dir if out_dir is not None else Path("outputs") / f"{scene_name}-sweep"
+        folder = out_dir if out_dir is not None else inside(Path("outputs"), f"{scene_name}-sweep")
         output = folder / f"{scene_name}-{index:0{width}d}-{_slug(label)}.h5"
         task = VariantTask(index, scene.resolve(), overrides, output.resolve(), ticks, every)
         expected = ticks if ticks is not None else loaded.scene.world.ticks
@@ -207,8 +215,26 @@ def run_variants(tasks: Sequence[VariantTask]) -> list[VariantOutcome]:
 
 def _ignore_sigint() -> None:
     """Idle pool workers ignore Ctrl-C (the main process handles it); a running variant's own
-    handler still stops its run, which then ends as interrupted with its frames kept."""
+    handler still stops its run, which then ends as interrupted with its frames kept. A worker whose
+    sweep process is gone (killed) stops its variant the same way and exits."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    threading.Thread(target=_exit_when_orphaned, args=(os.getppid(),), daemon=True).start()
+
+
+ORPHAN_CHECK_SECONDS = 0.5
+ORPHAN_GRACE_SECONDS = 10.0  # for the running variant to close its file as interrupted
+
+
+def _exit_when_orphaned(parent: int) -> None:
+    """In a pool worker: once the parent process has died, interrupt the running variant (its
+    trajectory is kept) and exit, rather than wait forever for work that will never come."""
+    import time
+
+    while os.getppid() == parent:
+        time.sleep(ORPHAN_CHECK_SECONDS)
+    os.kill(os.getpid(), signal.SIGINT)
+    time.sleep(ORPHAN_GRACE_SECONDS)
+    os._exit(1)
 
 
 def _interrupt_pool_workers() -> None:
@@ -332,10 +358,24 @@ def _dask_client(address: str) -> Any:
         raise UserError(
             "--scheduler needs the 'distributed' package: pip install 'rustycs[dask]'"
         ) from None
-    try:
-        return Client(address, timeout=CONNECT_TIMEOUT)
-    except (OSError, TimeoutError, ValueError) as err:
-        raise UserError(f"cannot reach the Dask scheduler at {address}: {err}") from None
+    # in a thread with a deadline: a scheduler that accepts the connection and never answers would
+    # otherwise hang the handshake past Client's own timeout
+    found: list[Any] = []
+
+    def connect() -> None:
+        try:
+            found.append(Client(address, timeout=CONNECT_TIMEOUT))
+        except (OSError, TimeoutError, ValueError) as err:
+            found.append(err)
+
+    thread = threading.Thread(target=connect, daemon=True)
+    thread.start()
+    thread.join(CONNECT_TIMEOUT + 5)
+    if not found:
+        raise UserError(f"cannot reach the Dask scheduler at {address}: no answer in {CONNECT_TIMEOUT:g} s")
+    if isinstance(found[0], Exception):
+        raise UserError(f"cannot reach the Dask scheduler at {address}: {found[0]}") from None
+    return found[0]
 
 
 @dataclass

@@ -48,6 +48,8 @@ def open_trajectory(path: str | Path) -> h5py.File:
     """
     import h5py
 
+    from .trajectory_checks import damage
+
     path = Path(path)
     if not path.exists():
         raise UserError(f"{path}: no such file")
@@ -62,8 +64,8 @@ def open_trajectory(path: str | Path) -> h5py.File:
             raise UserError(f"{path}: not an HDF5 file (expected a rustycs trajectory .h5)") from None
         raise UserError(f"{path}: unreadable or corrupt HDF5 file ({err})") from None
     try:
-        problem = _foreign_reason(file)
-    except (OSError, KeyError, RuntimeError) as err:  # damaged metadata inside a readable file
+        problem = _foreign_reason(file) or damage(file)
+    except (OSError, KeyError, RuntimeError, ValueError, TypeError) as err:  # damaged metadata
         problem = f"corrupt HDF5 file ({err})"
     if problem:
         file.close()

@@ -1,0 +1,354 @@
+"""Hostile inputs and faults (issue 15): every one gets one clear message and the right exit code,
+nothing is written where it must not be, nothing is lost."""
+
+from __future__ import annotations
+
+import errno
+import os
+import shutil
+import stat
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+from rustycs_cli import limits
+from rustycs_cli.errors import UserError
+from rustycs_cli.loading import load_scene_text
+from rustycs_cli.output_files import output_lock
+
+SMALL = """\
+name: small
+world: {tick_rate: 60, ticks: 5, precision: 4}
+bodies:
+  - {name: floor, type: static, shape: {type: aabb, width: 4, height: 0.5}, position: [0, -0.25]}
+  - {name: ball, shape: {type: circle, radius: 0.25}, position: [0, 1]}
+"""
+
+
+def problems_of(text: str, *overrides: str) -> list[str]:
+    with pytest.raises(UserError) as raised:
+        load_scene_text(text, "s.yaml", overrides)
+    assert raised.value.exit_code == 2
+    return raised.value.messages
+
+
+def assert_user_error(result, *words: str) -> None:
+    assert result.exit_code == 2, (result.stdout, result.stderr)
+    assert "Traceback" not in result.stderr
+    for word in words:
+        assert word in result.stderr, result.stderr
+
+
+# ------------------------------------------------------------------------------------ numbers
+
+
+@pytest.mark.parametrize(("override", "expected"), [
+    ("bodies.ball.shape.radius=.inf", "bodies.ball.shape.radius: Input should be a finite number"),
+    ("bodies.ball.shape.radius=1e309", "Input should be a finite number"),
+    ("bodies.ball.shape.radius=.nan", "Input should be a finite number"),
+    ("bodies.ball.shape.radius=1e-300", "must be at least 1e-06 m (MIN_LENGTH"),
+    ("bodies.ball.shape.radius=1e300", "must be at most 1e+06 m (MAX_LENGTH"),
+    ("bodies.ball.mass=1e300", "(MAX_MASS"),
+    ("bodies.ball.position=[0,.inf]", "bodies.ball.position.1: Input should be a finite number"),
+    ("bodies.ball.angle=-.inf", "Input should be a finite number"),
+    ("bodies.ball.velocity=[1e300,0]", "(MAX_SPEED"),
+    ("world.tick_rate=.inf", "world.tick_rate: Input should be a finite number"),
+    ("world.tick_rate=1e300", "(MAX_TICK_RATE"),
+    ("world.restitution_threshold=.nan", "Input should be a finite number"),
+    ("world.precision=9223372036854775808", "must be at most 1000 (MAX_PRECISION"),
+    ("world.ticks=10000000000000", "(MAX_TICKS"),
+    ("seed=100000000000000000000000000", "(MAX_SEED"),
+    ("materials.rubber.density=1e300", "(MAX_DENSITY"),
+    ("materials.rubber.friction=.inf", "Input should be a finite number"),
+    # lax coercion
+    ("bodies.ball.shape.radius=true", "Input should be a valid number (got True)"),
+    ("bodies.ball.shape.radius='0.5'", "Input should be a valid number (got '0.5')"),
+    ("world.ticks=10.0", "world.ticks: Input should be a valid integer (got 10.0)"),
+    ("world.ticks=1:30", "world.ticks: Input should be a valid integer (got '1:30')"),
+])
+def test_numbers_are_finite_strict_and_bounded(override: str, expected: str) -> None:
+    messages = problems_of(SMALL, override)
+    assert len(messages) == 1 and expected in messages[0], messages
+
+
+def test_an_attractor_of_huge_mass_and_tiny_softening_is_refused() -> None:
+    text = SMALL + "attractors:\n  - {name: sun, position: [0, 0], mass: 1e300, min_distance: 1e-300}\n"
+    messages = problems_of(text)
+    assert messages == [
+        "s.yaml:7:41: attractors.sun.mass: must be at most 1e+30 kg (MAX_MASS, see docs/limits.md) "
+        "(got 1e+300)",
+        "s.yaml:7:62: attractors.sun.min_distance: must be at least 1e-06 m (MIN_LENGTH, see docs/limits.md) "
+        "(got 1e-300)",
+    ]
+
+
+def test_the_schema_names_the_limits() -> None:
+    from rustycs_cli.scene import Scene
+
+    schema = Scene.model_json_schema()
+    precision = schema["$defs"]["World"]["properties"]["precision"]
+    assert precision["maximum"] == 1000 and "MAX_PRECISION" in precision["$comment"]
+    radius = schema["$defs"]["Circle"]["properties"]["radius"]
+    assert radius["minimum"] == limits.MIN_LENGTH.value and radius["maximum"] == limits.MAX_LENGTH.value
+
+
+# ------------------------------------------------------------------------------------ YAML
+
+
+@pytest.mark.parametrize(("text", "expected"), [
+    ("seed: !!float x\n", "s.yaml:1:7: YAML error: cannot read 'x' as a number"),
+    ("seed: !!int abc\n", "s.yaml:1:7: YAML error: cannot read 'abc' as an integer"),
+    ("seed: !!bool maybe\n", "s.yaml:1:7: YAML error: cannot read 'maybe' as a boolean"),
+    ("description: !!timestamp 2001-13-45\n", "s.yaml:1:14: YAML error: cannot read '2001-13-45' as a"),
+    ("description: a\x01b\n", "s.yaml:1:15: YAML error: special characters are not allowed (character"),
+    ("bodies: &a [*a]\n", "s.yaml:1:9: YAML error: a recursive alias (a value that contains itself)"),
+    ("a: " + "[" * 900 + "]" * 900 + "\n", "s.yaml:1:67: YAML error: nesting deeper than 64 levels"),
+])
+def test_yaml_problems_are_located_messages(text: str, expected: str) -> None:
+    messages = problems_of(text)
+    assert len(messages) == 1 and messages[0].startswith(expected), messages
+
+
+def test_an_alias_bomb_costs_what_reading_it_once_costs() -> None:
+    lines = ["a: &a [x, x, x, x, x, x, x, x, x]"]
+    for i in range(1, 12):  # 9^12 values once expanded
+        previous, name = chr(96 + i), chr(97 + i)
+        lines.append(f"{name}: &{name} [{', '.join([f'*{previous}'] * 9)}]")
+    messages = problems_of("\n".join(lines) + "\n")
+    assert messages == ["s.yaml:1:1: YAML error: the aliases expand to more than 10000000 values "
+                        "(MAX_YAML_VALUES, see docs/limits.md)"]
+
+
+@pytest.mark.parametrize("value", ["!!float x", "!!int abc", "&a [*a]", '"a\\0"'])
+def test_yaml_problems_in_set_values(value: str) -> None:
+    messages = problems_of(SMALL, f"description={value}")
+    assert len(messages) == 1 and messages[0].startswith(f"--set description={value}: ")
+
+
+# ------------------------------------------------------------------------------------ names
+
+
+@pytest.mark.parametrize(("name", "expected"), [
+    ("../../escaped", "must not contain / or \\"),
+    ("/abs/path", "must not contain / or \\"),
+    ("..", "nor be . or .."),
+    ('"a\\0b"', "must not contain control characters"),
+    ("x" * 250, "a name has at most 100 characters (MAX_NAME_LENGTH"),
+])
+def test_scene_names_stay_inside_the_output_folder(name: str, expected: str) -> None:
+    messages = problems_of(SMALL.replace("name: small", f"name: {name}"))
+    assert len(messages) == 1 and messages[0].startswith("s.yaml:1:7: name: ") and expected in messages[0]
+
+
+def test_body_names_with_nul_or_too_long_are_refused() -> None:
+    messages = problems_of(SMALL.replace("name: ball", 'name: "b\\0"'))
+    assert messages[0].startswith("s.yaml:5:12: bodies.1.name: a name must not contain control")
+    assert "MAX_NAME_LENGTH" in problems_of(SMALL.replace("name: ball", "name: " + "b" * 250))[0]
+
+
+def test_traversal_writes_nothing_outside(cli, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    work = tmp_path / "work"
+    work.mkdir()
+    monkeypatch.chdir(work)
+    scene = work / "s.yaml"
+    scene.write_text(SMALL.replace("name: small", "name: ../../escaped"))
+    assert_user_error(cli("run", scene), "name: a scene name names its output files")
+    assert_user_error(cli("sweep", scene, "-p", "world.precision=4,5"), "scene name")
+    assert sorted(p.name for p in tmp_path.rglob("*")) == ["s.yaml", "work"]
+
+
+# ------------------------------------------------------------------------------------ sizes
+
+
+def test_too_many_bodies_are_refused_before_any_work() -> None:
+    text = ("generators:\n  - {name: g, count: 1000000000, shape: {type: circle, radius: 0.1},\n"
+            "     region: {min: [0, 0], max: [1, 1]}}\n")
+    assert problems_of(text) == [
+        "s.yaml:2:22: generators.g.count: the scene has 1000000000 bodies, more than 200000 "
+        "(MAX_BODIES, see docs/limits.md)"]
+    pyramid = ("generators:\n  - {name: p, shape: {type: circle, radius: 0.1},\n"
+               "     layout: {pyramid: {base: 100000, origin: [0, 0], spacing: [1, 1]}}}\n")
+    assert "the scene has 5000050000 bodies" in problems_of(pyramid)[0]
+
+
+def test_a_scene_file_larger_than_the_limit_is_refused_unread(cli, tmp_path: Path,
+                                                              monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(limits, "MAX_SCENE_BYTES", limits.Limit("MAX_SCENE_BYTES", 100, "bytes"))
+    big = tmp_path / "big.yaml"
+    big.write_text(SMALL)
+    assert_user_error(cli("validate", big), "the scene file is larger than 100 bytes (MAX_SCENE_BYTES")
+    assert_user_error(cli("validate", "/dev/zero"), "/dev/zero: the scene file is larger than")
+
+
+def test_a_sweep_of_too_many_variants_is_refused(cli, tmp_path: Path) -> None:
+    scene = tmp_path / "s.yaml"
+    scene.write_text(SMALL)
+    result = cli("sweep", scene, "-p", "world.ticks=range(0,100000)", "-p", "seed=range(0,100000)",
+                 "--out", tmp_path / "sweep")
+    assert_user_error(result, "the sweep has 10000000000 variants, more than 10000 (MAX_VARIANTS")
+    assert not (tmp_path / "sweep").exists()
+
+
+@pytest.mark.parametrize("option", [("--ticks", str(10**29)), ("--every", str(10**23))])
+def test_huge_run_options_are_refused(cli, tmp_path: Path, option: tuple[str, str]) -> None:
+    scene = tmp_path / "s.yaml"
+    scene.write_text(SMALL)
+    result = cli("run", scene, *option, "--out", tmp_path / "o.h5")
+    assert_user_error(result, f"{option[0]} {option[1]}: must be")
+    assert_user_error(cli("run", scene, "--seed", str(10**26), "--out", tmp_path / "o.h5"), "(MAX_SEED")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.yaml"]
+
+
+# ------------------------------------------------------------------------------------ outputs
+
+
+def test_out_must_be_an_h5_file_name(cli, tmp_path: Path) -> None:
+    scene = tmp_path / "s.yaml"
+    scene.write_text(SMALL)
+    assert_user_error(cli("run", scene, "--out", scene), "a trajectory file name must end in .h5")
+    assert scene.read_text() == SMALL
+
+
+def test_outputs_that_are_not_regular_files_are_never_replaced(cli, tmp_path: Path) -> None:
+    scene = tmp_path / "s.yaml"
+    scene.write_text(SMALL)
+    fifo = tmp_path / "pipe.h5"
+    os.mkfifo(fifo)
+    assert_user_error(cli("run", scene, "--out", fifo), "exists and is not a regular file")
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+    assert_user_error(cli("run", scene, "--out", "/dev/null"), "/dev/null: exists and is not a regular file")
+    assert stat.S_ISCHR(os.stat("/dev/null").st_mode) and not Path("/dev/null.summary.json").exists()
+
+
+def test_sweep_out_onto_an_existing_file(cli, tmp_path: Path) -> None:
+    scene = tmp_path / "s.yaml"
+    scene.write_text(SMALL)
+    assert_user_error(cli("sweep", scene, "-p", "world.precision=4,5", "--out", scene), "is not a folder")
+    assert scene.read_text() == SMALL
+
+
+def test_a_locked_output_is_refused(cli, tmp_path: Path) -> None:
+    scene, out = tmp_path / "s.yaml", tmp_path / "o.h5"
+    scene.write_text(SMALL)
+    with output_lock(out):
+        assert_user_error(cli("run", scene, "--out", out), "another rustycs process is writing this output")
+    assert not out.exists()
+
+
+def test_a_full_disk_is_one_message_and_leaves_nothing(cli, tmp_path: Path, compiled_engine: None,
+                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    from rustycs_cli import trajectory
+
+    scene, out = tmp_path / "s.yaml", tmp_path / "o.h5"
+    scene.write_text(SMALL)
+    assert cli("run", scene, "--out", out, "--quiet").exit_code == 0
+    before = out.read_bytes()
+
+    def full(*_args: object, **_kwargs: object) -> None:
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(trajectory.TrajectoryWriter, "append_block", full)
+    result = cli("run", scene, "--out", out, "--quiet")
+    assert result.exit_code == 1 and "Traceback" not in result.stderr
+    assert result.stderr.strip().splitlines() == [f"{out}: cannot write the output: the disk is full; "
+                                                  "the run's file was removed"]
+    assert out.read_bytes() == before  # the previous run's file survives
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["o.h5", "o.summary.json", "s.yaml"]
+
+
+def test_a_failed_summary_never_sits_beside_a_newer_trajectory(cli, tmp_path: Path, compiled_engine: None,
+                                                               monkeypatch: pytest.MonkeyPatch) -> None:
+    from rustycs_cli import simulation, summary
+
+    scene, out = tmp_path / "s.yaml", tmp_path / "o.h5"
+    scene.write_text(SMALL)
+    assert cli("run", scene, "--out", out, "--quiet").exit_code == 0
+
+    def full(*_args: object) -> None:
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(summary, "write_text_atomic", full)
+    monkeypatch.setattr(simulation, "warm_up", lambda: None)
+    result = cli("run", scene, "--out", out, "--quiet", "--ticks", "3")
+    assert result.exit_code == 1 and "the disk is full" in result.stderr
+    assert not (tmp_path / "o.summary.json").exists()  # the old sidecar went before the new file came
+
+
+def test_a_run_that_would_fill_the_disk_is_refused(cli, tmp_path: Path, compiled_engine: None,
+                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    scene, out = tmp_path / "s.yaml", tmp_path / "o.h5"
+    scene.write_text(SMALL)
+    monkeypatch.setattr(shutil, "disk_usage", lambda _path: shutil._ntuple_diskusage(10**9, 10**9, 10**6))
+    result = cli("run", scene, "--out", out, "--ticks", "1000000")
+    assert_user_error(result, "the run would write about", "--allow-full-disk")
+    assert not out.exists()
+
+
+def test_temporaries_of_dead_runs_are_removed(cli, tmp_path: Path, compiled_engine: None) -> None:
+    scene, out = tmp_path / "s.yaml", tmp_path / "o.h5"
+    scene.write_text(SMALL)
+    stale = tmp_path / ".o.h5.tmp-999999999"
+    stale.write_bytes(b"\0" * 1000)
+    assert cli("run", scene, "--out", out, "--quiet").exit_code == 0
+    assert not stale.exists()
+
+
+# ------------------------------------------------------------------------------------ damaged trajectories
+
+
+def _damage(path: Path, how: str) -> None:
+    with h5py.File(path, "r+") as f:
+        position = "particles/bodies/position"
+        if how == "extra frame":
+            f[f"{position}/value"].resize(f[f"{position}/value"].shape[0] + 1, axis=0)
+        elif how == "nan time":
+            f[f"{position}/time"][0] = np.nan
+        elif how == "no parameters":
+            del f["parameters"]
+        elif how == "1-D position":
+            del f[f"{position}/value"]
+            f[f"{position}/value"] = np.zeros(3)
+        elif how == "text steps":
+            del f[f"{position}/step"]
+            f[f"{position}/step"] = np.array(["a"] * f[f"{position}/value"].shape[0], dtype=object)
+        elif how == "short velocity":
+            del f["particles/bodies/velocity/value"]
+            f["particles/bodies/velocity/value"] = np.zeros((1, 2))
+
+
+@pytest.mark.parametrize("how", ["extra frame", "nan time", "no parameters", "1-D position", "text steps",
+                                 "short velocity"])
+def test_damaged_trajectories_get_one_message(cli, tmp_path: Path, run_scene, how: str) -> None:
+    good = run_scene(SMALL)
+    bad = tmp_path / "bad.h5"
+    shutil.copy(good, bad)
+    _damage(bad, how)
+    for args in (("info", bad), ("compare", bad, good), ("compare", good, bad),
+                 ("render", bad, "-o", tmp_path / "x.png"), ("run", bad, "--out", tmp_path / "again.h5")):
+        result = cli(*args)
+        assert_user_error(result, f"{bad}: ")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.h5"]
+
+
+# ------------------------------------------------------------------------------------ signals
+
+
+def test_sigterm_while_loading_is_an_interruption(tmp_path: Path) -> None:
+    import signal
+    import subprocess
+    import time
+
+    fifo = tmp_path / "scene.yaml"
+    os.mkfifo(fifo)  # opening it blocks until a writer comes: the program is loading
+    process = subprocess.Popen([sys.executable, "-c", "from rustycs_cli.app import main; main()", "validate",
+                                str(fifo)], stderr=subprocess.PIPE, text=True)
+    wchan = Path(f"/proc/{process.pid}/wchan")
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and "fifo" not in wchan.read_text():
+        time.sleep(0.1)
+    process.send_signal(signal.SIGTERM)
+    _, stderr = process.communicate(timeout=30)
+    assert process.returncode == 130 and stderr.strip() == "rustycs: interrupted"
