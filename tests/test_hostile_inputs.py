@@ -347,7 +347,7 @@ def test_sigterm_while_loading_is_an_interruption(tmp_path: Path) -> None:
                                 str(fifo)], stderr=subprocess.PIPE, text=True)
     wchan = Path(f"/proc/{process.pid}/wchan")
     deadline = time.monotonic() + 60
-    while time.monotonic() < deadline and "fifo" not in wchan.read_text():
+    while time.monotonic() < deadline and wchan.read_text() not in ("wait_for_partner", "fifo_open"):
         time.sleep(0.1)
     process.send_signal(signal.SIGTERM)
     _, stderr = process.communicate(timeout=30)
