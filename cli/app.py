@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import signal
 import sys
+import warnings
 
 import typer
 
@@ -31,6 +32,9 @@ def main() -> None:
     """Entry point: run the app, turning user errors into messages and exit code 2. SIGTERM interrupts
     like Ctrl-C (a run installs its own handler, to end with a valid file)."""
     signal.signal(signal.SIGTERM, _interrupt)
+    # numpy's warnings about non-finite arithmetic are not for users: the program reports what they mean
+    # (a diverged run, a statistic without a value) in its own words
+    warnings.filterwarnings("ignore", category=RuntimeWarning)
     try:
         app()
     except UserError as err:

@@ -64,6 +64,8 @@ MAX_YAML_DEPTH = Limit("MAX_YAML_DEPTH", 64, "levels")  # nesting of YAML collec
 MAX_YAML_VALUES = Limit("MAX_YAML_VALUES", 10_000_000, "values")  # a document with its aliases expanded
 MAX_VARIANTS = Limit("MAX_VARIANTS", 10_000)  # variants of one sweep
 
+MAX_VIEW = Limit("MAX_VIEW", 1e12, "m")  # |x|, |y| of a rendered view
+
 # ---------------------------------------------------------------------------------- runs
 DISK_MARGIN_BYTES = 64 * 2**20  # a run must leave this much free beyond its estimated output
 STOP_SECONDS = 0.25  # the engine is called for about this long at most, so a stop request is quick

@@ -333,6 +333,18 @@ def test_damaged_trajectories_get_one_message(cli, tmp_path: Path, run_scene, ho
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.h5"]
 
 
+@pytest.mark.parametrize(("args", "expected"), [
+    (("--view", "-1e308,-1e308,1e308,1e308", "-o", "x.png"), "the view must lie within +-1e+12 m (MAX_VIEW"),
+    (("--view", "0,0,1e-300,1e-300", "-o", "x.png"), "at least 1e-06 m (MIN_LENGTH"),
+    (("--every", str(10**20), "-o", "x.gif"), f"--every {10**20}: must be from 1 to 1000000000 (MAX_TICKS"),
+])
+def test_render_options_beyond_the_limits(cli, tmp_path: Path, run_scene, monkeypatch: pytest.MonkeyPatch,
+                                          args: tuple[str, ...], expected: str) -> None:
+    monkeypatch.chdir(tmp_path)
+    assert_user_error(cli("render", run_scene(SMALL), *args), expected)
+    assert list(tmp_path.iterdir()) == []
+
+
 # ------------------------------------------------------------------------------------ signals
 
 
