@@ -364,3 +364,11 @@ def test_sigterm_while_loading_is_an_interruption(tmp_path: Path) -> None:
     process.send_signal(signal.SIGTERM)
     _, stderr = process.communicate(timeout=30)
     assert process.returncode == 130 and stderr.strip() == "rustycs: interrupted"
+
+
+def test_docs_list_every_limit_with_its_value() -> None:
+    text = (Path(__file__).resolve().parents[1] / "docs" / "limits.md").read_text()
+    for limit in vars(limits).values():
+        if isinstance(limit, limits.Limit):
+            value = f"{limit.value:g}" if isinstance(limit.value, float) else str(limit.value)
+            assert f"`{limit.name}`" in text and value in text, limit
