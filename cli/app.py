@@ -12,7 +12,7 @@ import warnings
 
 import typer
 
-from .commands import bench, compare, info, plot, render, run, schema, sweep, validate
+from .commands import bench, compare, info, plot, recover, render, run, schema, sweep, validate
 from .errors import UserError
 
 app = typer.Typer(
@@ -24,7 +24,7 @@ app = typer.Typer(
     pretty_exceptions_enable=False,
 )
 
-for module in (run, validate, schema, sweep, compare, render, plot, info, bench):
+for module in (run, validate, schema, sweep, compare, render, plot, info, recover, bench):
     app.command(name=module.NAME, help=module.command.__doc__)(module.command)
 
 

@@ -24,7 +24,7 @@ from . import limits
 from .errors import UserError
 
 TRAJECTORY_SUFFIX = ".h5"
-_TEMPORARY = re.compile(r"^\.(?P<name>.+)\.tmp-(?P<pid>\d+)$")
+TEMPORARY_NAME = re.compile(r"^\.(?P<name>.+)\.tmp-(?P<pid>\d+)$")
 
 
 def refuse_special(path: Path) -> None:
@@ -113,7 +113,7 @@ def stale_temporaries(folder: Path) -> list[Path]:
     except OSError:
         return []
     for entry in entries:
-        match = _TEMPORARY.match(entry.name)
+        match = TEMPORARY_NAME.match(entry.name)
         if match and not _alive(int(match["pid"])):
             found.append(entry)
     return found

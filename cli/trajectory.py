@@ -24,6 +24,7 @@ folder and renamed when finished, so a half-written file never carries the final
 from __future__ import annotations
 
 import os
+import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -150,6 +151,7 @@ FLUSH_FRAMES = 4 * BLOCK_FRAMES  # the same when whole blocks are appended (`app
 CHUNK_FRAMES = BLOCK_FRAMES  # frames per chunk (a block fills whole chunks), fewer when a frame is large
 CHUNK_BYTES = 1 << 20  # so that a chunk fits h5py's default chunk cache
 CONTACT_CHUNK_ROWS = 4096
+RECOVERY_SECONDS = 5.0  # the temporary file is flushed to a consistent state this often (`rustycs recover`)
 
 
 @dataclass(frozen=True)
@@ -290,6 +292,7 @@ class TrajectoryWriter:
         self.dt = float(world.dt)
         self.frames = 0
         self._file = h5py.File(self.temporary, "w")
+        self._saved = time.monotonic()
         try:
             self._write_static(world, names, materials, collision_groups, attractor_names, author,
                                scene_text, overrides)
@@ -430,12 +433,19 @@ class TrajectoryWriter:
         if whole > 0:
             for series in self._all_series():
                 series.flush(whole)
+            self._save_now_and_then()
 
     def _flush(self) -> None:
-        # no HDF5 flush per block: the file is a temporary until `finish` closes and renames it, so a
-        # flush would cost a millisecond per block and protect nothing
         for series in self._all_series():
             series.flush()
+        self._save_now_and_then()
+
+    def _save_now_and_then(self) -> None:
+        """Flush the file to disk every RECOVERY_SECONDS (not per block: that would cost a millisecond
+        each), so that the temporary of a killed run holds a consistent state to recover."""
+        if time.monotonic() - self._saved >= RECOVERY_SECONDS and self._file.id.valid:
+            self._file.flush()
+            self._saved = time.monotonic()
 
     def _all_series(self) -> list[_Growing]:
         found = [self._step, self._time, *self._series.values(), *self._observables.values(),

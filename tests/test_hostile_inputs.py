@@ -372,3 +372,62 @@ def test_docs_list_every_limit_with_its_value() -> None:
         if isinstance(limit, limits.Limit):
             value = f"{limit.value:g}" if isinstance(limit.value, float) else str(limit.value)
             assert f"`{limit.name}`" in text and value in text, limit
+
+
+LONG = SMALL.replace("ticks: 5", "ticks: 100000000").replace("precision: 4", "precision: 1") + """\
+generators:
+  - {name: rain, count: 200, shape: {type: circle, radius: 0.05}, region: {min: [-2, 1], max: [2, 30]}}
+"""
+
+
+def _wait_for(condition, seconds: float = 120.0) -> None:
+    import time
+
+    deadline = time.monotonic() + seconds
+    while not condition():
+        assert time.monotonic() < deadline, "timed out"
+        time.sleep(0.2)
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_the_frames_of_a_killed_run_are_recovered(cli, tmp_path: Path) -> None:
+    import signal
+    import subprocess
+
+    from rustycs_cli.trajectory import RECOVERY_SECONDS
+
+    scene, out = tmp_path / "long.yaml", tmp_path / "long.h5"
+    scene.write_text(LONG)
+    process = subprocess.Popen([sys.executable, "-c", "from rustycs_cli.app import main; main()", "run",
+                                str(scene), "--out", str(out), "--quiet", "--allow-full-disk"],
+                               stderr=subprocess.PIPE)
+    temporary = tmp_path / f".long.h5.tmp-{process.pid}"
+    try:
+        _wait_for(lambda: temporary.exists() or process.poll() is not None)
+        assert process.poll() is None, process.stderr.read()
+        first = temporary.stat().st_mtime
+        _wait_for(lambda: temporary.stat().st_mtime > first + RECOVERY_SECONDS)  # flushed once more at least
+    finally:
+        process.send_signal(signal.SIGKILL)
+        process.wait(timeout=30)
+    result = cli("recover", temporary)
+    assert result.exit_code == 0, result.stderr
+    assert not temporary.exists() and out.exists()
+    info = cli("info", out, "--json")
+    assert info.exit_code == 0, info.stderr
+    import json
+
+    details = json.loads(info.stdout)
+    assert details["status"] == "interrupted" and details["frames"] > 1
+    assert details["ticks_completed"] == details["frames"] - 1  # every tick recorded, from 0
+    assert json.loads((tmp_path / "long.summary.json").read_text())["status"] == "interrupted"
+
+
+def test_recover_refuses_what_is_not_a_dead_runs_temporary(cli, tmp_path: Path) -> None:
+    mine = tmp_path / f".x.h5.tmp-{os.getpid()}"
+    mine.write_bytes(b"")
+    assert_user_error(cli("recover", mine), "is still writing it")
+    assert_user_error(cli("recover", tmp_path / "x.h5"), "not the temporary file of a run")
+    junk = tmp_path / ".y.h5.tmp-999999999"
+    junk.write_bytes(b"junk")
+    assert_user_error(cli("recover", junk), "cannot be recovered")
