@@ -431,3 +431,40 @@ def test_recover_refuses_what_is_not_a_dead_runs_temporary(cli, tmp_path: Path) 
     junk = tmp_path / ".y.h5.tmp-999999999"
     junk.write_bytes(b"junk")
     assert_user_error(cli("recover", junk), "cannot be recovered")
+
+
+def _gone(pid: int) -> bool:
+    """True when the process has exited (a zombie nobody reaps counts as gone)."""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except FileNotFoundError:
+        return True
+    return "State:\tZ" in status
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_workers_of_a_killed_sweep_keep_their_frames_and_exit(tmp_path: Path) -> None:
+    import signal
+    import subprocess
+
+    scene, out = tmp_path / "long.yaml", tmp_path / "sweep"
+    scene.write_text(LONG)
+    process = subprocess.Popen([sys.executable, "-c", "from rustycs_cli.app import main; main()", "sweep",
+                                str(scene), "-p", "world.precision=1,2", "--local", "processes", "-w", "2",
+                                "--every", "100000", "--out", str(out), "--quiet"], stderr=subprocess.PIPE)
+    try:
+        def running() -> list[int]:
+            names = [p.name for p in out.glob(".*.h5.tmp-*")] if out.exists() else []
+            return [int(name.rsplit("-", 1)[1]) for name in names]
+
+        _wait_for(lambda: len(running()) == 2 or process.poll() is not None)
+        assert process.poll() is None, process.stderr.read()
+        workers = running()
+    finally:
+        process.send_signal(signal.SIGKILL)
+        process.wait(timeout=30)
+    _wait_for(lambda: all(_gone(pid) for pid in workers), seconds=60)
+    for path in sorted(out.glob("*.h5")):  # each variant ended as interrupted, its frames kept
+        with h5py.File(path, "r") as file:
+            assert file["parameters"].attrs["status"] == "interrupted"
+    assert len(list(out.glob("*.h5"))) == 2 and not list(out.glob(".*.tmp-*"))
