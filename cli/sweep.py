@@ -370,7 +370,7 @@ def _dask_client(address: str) -> Any:
 
     thread = threading.Thread(target=connect, daemon=True)
     thread.start()
-    thread.join(CONNECT_TIMEOUT + 5)
+    thread.join(2 * CONNECT_TIMEOUT)
     if not found:
         raise UserError(f"cannot reach the Dask scheduler at {address}: no answer in {CONNECT_TIMEOUT:g} s")
     if isinstance(found[0], Exception):

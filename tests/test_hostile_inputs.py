@@ -468,3 +468,42 @@ def test_workers_of_a_killed_sweep_keep_their_frames_and_exit(tmp_path: Path) ->
         with h5py.File(path, "r") as file:
             assert file["parameters"].attrs["status"] == "interrupted"
     assert len(list(out.glob("*.h5"))) == 2 and not list(out.glob(".*.tmp-*"))
+
+
+@pytest.mark.parametrize(("every", "budgets"), [(1, [1, 7, 300]), (8, [1, 3, 8, 20, 1]),
+                                                (64, [5, 5, 200, 1])])
+def test_engine_calls_keep_the_recorded_ticks_whatever_their_length(every: int, budgets: list[int]) -> None:
+    from rustycs_cli.run_pace import Pace
+
+    ticks, tick, recorded = 1000, 0, []
+    pace = Pace(every, most=256 * every)
+    calls = 0
+    while tick < ticks:
+        count, call_every = pace.next_call(tick, ticks)
+        assert count >= 1
+        if call_every:  # the engine records after every `call_every`-th tick of the call and after its last
+            recorded += [t for t in range(tick + 1, tick + count + 1)
+                         if (t - tick) % call_every == 0 or t == tick + count]
+        tick += count
+        pace.budget = budgets[calls % len(budgets)]
+        calls += 1
+    assert recorded == sorted({*range(every, ticks, every), ticks})
+
+
+def test_a_scheduler_that_never_answers_is_given_up(cli, tmp_path: Path,
+                                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    import socket
+
+    pytest.importorskip("distributed")
+    from rustycs_cli import sweep
+
+    monkeypatch.setattr(sweep, "CONNECT_TIMEOUT", 1.0)
+    scene = tmp_path / "s.yaml"
+    scene.write_text(SMALL)
+    with socket.socket() as server:
+        server.bind(("127.0.0.1", 0))
+        server.listen()  # accepts connections (the kernel does) and never answers
+        port = server.getsockname()[1]
+        result = cli("sweep", scene, "-p", "world.precision=4,5", "--scheduler", f"tcp://127.0.0.1:{port}",
+                     "--out", tmp_path / "sweep")
+    assert_user_error(result, f"cannot reach the Dask scheduler at tcp://127.0.0.1:{port}")
