@@ -57,8 +57,12 @@ class SceneDumper(_ResolveOnce, yaml.CSafeDumper):  # type: ignore[misc]
 
 _EXPONENT_FLOAT = re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$")
 _SEXAGESIMAL = re.compile(r"^[-+]?[0-9][0-9_]*(?::[0-5]?[0-9])+(?:\.[0-9_]*)?$")
+class _DumperResolver(_ResolveOnce, yaml.resolver.Resolver):
+    """SceneDumper's resolver alone: whether a string would be written plain."""
+
+
 _LOADERS = (SceneLoader, FastSceneLoader)
-for _cls in (*_LOADERS, SceneDumper):
+for _cls in (*_LOADERS, SceneDumper, _DumperResolver):
     _cls.add_implicit_resolver("tag:yaml.org,2002:float", _EXPONENT_FLOAT, list("-+0123456789."))
 for _cls in _LOADERS:
     # first match wins: 1:30 resolves as a string before the int and float resolvers see it
@@ -255,9 +259,45 @@ def duplicate_keys(root: Node | None) -> list[tuple[Node, Path]]:
 
 
 def _flow(value: Any) -> str:
-    """A value on one line in YAML flow style."""
-    text = yaml.dump(value, Dumper=SceneDumper, default_flow_style=True, width=2**30, sort_keys=False)
-    return text.strip()
+    """A value on one line in YAML flow style: the text yaml.dump writes, written directly for the
+    plain data of a scene (the representer costs a millisecond per body), by yaml.dump otherwise."""
+    try:
+        return _plain_flow(value)
+    except _Unusual:
+        text = yaml.dump(value, Dumper=SceneDumper, default_flow_style=True, width=2**30, sort_keys=False)
+        return text.strip()
+
+
+class _Unusual(Exception):
+    """A value `_plain_flow` leaves to yaml.dump."""
+
+
+_PLAIN_WORD = re.compile(r"^[A-Za-z_][A-Za-z0-9_-]*$")
+_PLAIN_TAG = "tag:yaml.org,2002:str"
+_RESOLVER = _DumperResolver()
+
+
+def _plain_flow(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if value != value or value in (float("inf"), float("-inf")):
+            raise _Unusual
+        text = repr(value).lower()  # SafeRepresenter.represent_float
+        return text.replace("e", ".0e", 1) if "." not in text and "e" in text else text
+    if value is None:
+        return "null"
+    if isinstance(value, str):
+        if _PLAIN_WORD.match(value) and _RESOLVER.resolve(ScalarNode, value, (True, False)) == _PLAIN_TAG:
+            return value
+        raise _Unusual
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{_plain_flow(k)}: {_plain_flow(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(_plain_flow(item) for item in value) + "]"
+    raise _Unusual
 
 
 def dump_scene_yaml(data: Mapping[str, Any], header: str = "") -> str:
