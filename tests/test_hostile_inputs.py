@@ -507,3 +507,12 @@ def test_a_scheduler_that_never_answers_is_given_up(cli, tmp_path: Path,
         result = cli("sweep", scene, "-p", "world.precision=4,5", "--scheduler", f"tcp://127.0.0.1:{port}",
                      "--out", tmp_path / "sweep")
     assert_user_error(result, f"cannot reach the Dask scheduler at tcp://127.0.0.1:{port}")
+
+
+def test_render_plot_and_schema_never_replace_a_special_file(cli, tmp_path: Path, run_scene) -> None:
+    for name, args in (("x.png", ("render", run_scene(SMALL))), ("y.png", ("plot", run_scene(SMALL))),
+                       ("s.json", ("schema",))):
+        fifo = tmp_path / name
+        os.mkfifo(fifo)
+        assert_user_error(cli(*args, "-o", fifo), f"{fifo}: exists and is not a regular file")
+        assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
