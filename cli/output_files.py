@@ -105,8 +105,9 @@ def output_lock(path: Path) -> Iterator[None]:
         os.close(handle)
 
 
-def stale_temporaries(folder: Path) -> list[Path]:
-    """Temporary outputs (`.NAME.tmp-PID`) in `folder` whose process no longer exists."""
+def stale_temporaries(folder: Path, of: str | None = None) -> list[Path]:
+    """Temporary outputs (`.NAME.tmp-PID`) in `folder` whose process no longer exists (only those of
+    output NAME `of` when given)."""
     found = []
     try:
         entries = list(folder.iterdir())
@@ -114,7 +115,7 @@ def stale_temporaries(folder: Path) -> list[Path]:
         return []
     for entry in entries:
         match = TEMPORARY_NAME.match(entry.name)
-        if match and not _alive(int(match["pid"])):
+        if match and (of is None or match["name"] == of) and not _alive(int(match["pid"])):
             found.append(entry)
     return found
 

@@ -85,7 +85,6 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
         Frame,
         TrajectoryWriter,
         package_version,
-        temporary_path,
     )
 
     started = time.perf_counter() if started is None else started
@@ -96,9 +95,8 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
     check_run_options(ticks, every)
     check_trajectory_output(out)
     with output_lock(out), writing_errors(out), _stop_requests() as stop_requested:
-        for stale in stale_temporaries(out.parent):  # left by a killed run of this output
-            if stale.name.startswith(temporary_path(out).name.rsplit("-", 1)[0]):
-                stale.unlink(missing_ok=True)
+        for stale in stale_temporaries(out.parent, of=out.name):  # killed runs of this output
+            stale.unlink(missing_ok=True)
         world = build_world(scene)
         if not allow_full_disk:
             check_free_space(out, estimated_bytes(world.body_count, ticks, every))

@@ -18,7 +18,8 @@ analysis:
 
 Frames are buffered in memory a block at a time and appended to resizable datasets chunked along time,
 so memory stays bounded whatever the run length. The file is written as `.NAME.tmp-PID` in the output
-folder and renamed when finished, so a half-written file never carries the final name.
+folder and renamed when finished, so a half-written file never carries the final name; it is flushed to a
+consistent state every RECOVERY_SECONDS, so that `rustycs recover` can save the frames of a killed run.
 """
 
 from __future__ import annotations
