@@ -71,8 +71,17 @@ def open_trajectory(path: str | Path) -> h5py.File:
         problem = f"corrupt HDF5 file ({err})"
     if problem:
         file.close()
-        raise UserError(f"{path}: {problem}")
+        raise UserError(f"{path}: {problem}{_temporary_hint(path)}")
     return file
+
+
+def _temporary_hint(path: Path) -> str:
+    """For the temporary file of a run: how to save its frames."""
+    from .output_files import TEMPORARY_NAME
+
+    if TEMPORARY_NAME.match(path.name):
+        return f"; it is the temporary file of a run: `rustycs recover {path}` saves its frames"
+    return ""
 
 
 def _has_hdf5_signature(path: Path) -> bool:

@@ -33,6 +33,8 @@ def damage(file: h5py.File) -> str | None:
             return f"missing dataset /{path}"
     if not isinstance(file.get("parameters"), h5py.Group) or dataset("parameters/scene").dtype.kind != "O":
         return "/parameters/scene is not the stored scene text"
+    if not isinstance(file.get("parameters/summary"), h5py.Group):
+        return "the run did not finish (no /parameters/summary)"
     value, step, time = (dataset(f"{FRAMES}/{name}") for name in ("value", "step", "time"))
     names = dataset("particles/bodies/name")
     if names.ndim != 1 or names.dtype.kind not in "OSU":

@@ -410,6 +410,7 @@ def test_the_frames_of_a_killed_run_are_recovered(cli, tmp_path: Path) -> None:
     finally:
         process.send_signal(signal.SIGKILL)
         process.wait(timeout=30)
+    assert_user_error(cli("info", temporary), f"rustycs recover {temporary}")
     result = cli("recover", temporary)
     assert result.exit_code == 0, result.stderr
     assert not temporary.exists() and out.exists()
