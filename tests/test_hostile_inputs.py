@@ -517,3 +517,12 @@ def test_render_plot_and_schema_never_replace_a_special_file(cli, tmp_path: Path
         os.mkfifo(fifo)
         assert_user_error(cli(*args, "-o", fifo), f"{fifo}: exists and is not a regular file")
         assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+
+
+@pytest.mark.parametrize("settings", [{"precision": 1001}, {"precision": 0}, {"tick_rate": float("inf")},
+                                      {"tick_rate": float("nan")}, {"tick_rate": 0.0}])
+def test_the_engine_refuses_settings_it_cannot_step(settings: dict[str, float]) -> None:
+    import rustycs
+
+    with pytest.raises(ValueError):
+        rustycs.World(**settings)
