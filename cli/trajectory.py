@@ -482,10 +482,15 @@ class TrajectoryWriter:
         return self.path
 
     def discard(self) -> None:
-        """Close and delete the temporary file (nothing is left under the final name)."""
-        if self._file.id.valid:
-            self._file.close()
-        self.temporary.unlink(missing_ok=True)
+        """Close and delete the temporary file (nothing is left under the final name), also when closing
+        fails (a full disk cannot take the last writes)."""
+        try:
+            if self._file.id.valid:
+                self._file.close()
+        except OSError:
+            pass
+        finally:
+            self.temporary.unlink(missing_ok=True)
 
 
 def _set_attrs(node: h5py.Group, values: dict[str, Any]) -> None:

@@ -526,3 +526,33 @@ def test_the_engine_refuses_settings_it_cannot_step(settings: dict[str, float]) 
 
     with pytest.raises(ValueError):
         rustycs.World(**settings)
+
+
+@pytest.fixture
+def small_disk(tmp_path: Path):
+    """A 1 MiB tmpfs (needs the right to mount: skipped otherwise)."""
+    import subprocess
+
+    folder = tmp_path / "small"
+    folder.mkdir()
+    mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(folder)],
+                             capture_output=True)
+    if mounted.returncode != 0:
+        pytest.skip("cannot mount a tmpfs here")
+    try:
+        yield folder
+    finally:
+        subprocess.run(["umount", str(folder)], check=True)
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_a_real_full_disk_leaves_no_temporary(cli, tmp_path: Path, small_disk: Path) -> None:
+    scene = tmp_path / "rain.yaml"
+    scene.write_text(LONG.replace("ticks: 100000000", "ticks: 3000"))
+    out = small_disk / "rain.h5"
+    assert_user_error(cli("run", scene, "--out", out, "--quiet"), "the run would write about")
+    result = cli("run", scene, "--out", out, "--quiet", "--allow-full-disk")
+    assert result.exit_code == 1 and "Traceback" not in result.stderr
+    assert result.stderr.strip() == (f"{out}: cannot write the output: the disk is full; "
+                                     "the run's file was removed")
+    assert list(small_disk.iterdir()) == []
