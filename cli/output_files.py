@@ -133,8 +133,11 @@ def _alive(pid: int) -> bool:
 def check_free_space(path: Path, needed: int) -> None:
     """UserError when the disk holding `path` has less free space than `needed` bytes plus a margin,
     naming both (`--allow-full-disk` skips the check)."""
+    folder = path.parent
+    while not folder.exists() and folder != folder.parent:  # an output folder not made yet
+        folder = folder.parent
     try:
-        free = shutil.disk_usage(path.parent).free
+        free = shutil.disk_usage(folder).free
     except OSError:
         return
     if needed + limits.DISK_MARGIN_BYTES > free:
@@ -169,7 +172,7 @@ def estimated_bytes(bodies: int, ticks: int, every: int) -> int:
 @contextmanager
 def writing_errors(path: Path) -> Iterator[None]:
     """Turn a failed write (disk full, quota, I/O error) into one message, exit code 1; the writers
-    have removed their temporary files by then."""
+    have removed their temporary files by then (an earlier file of that name is kept)."""
     try:
         yield
     except OSError as err:
@@ -178,5 +181,5 @@ def writing_errors(path: Path) -> Iterator[None]:
         text = str(err)
         full = err.errno in (errno.ENOSPC, errno.EDQUOT) or "No space left" in text or "errno = 28" in text
         reason = "the disk is full" if full else (err.strerror or str(err))
-        raise UserError(f"{path}: cannot write the output: {reason}; the run's file was removed",
+        raise UserError(f"{path}: cannot write the output: {reason} (no partial file was left)",
                         exit_code=1) from None

@@ -45,6 +45,7 @@ class VariantTask:
     output: Path
     ticks: int | None = None
     every: int | None = None
+    allow_full_disk: bool = False  # checked once for the whole sweep, before any variant runs
 
 
 @dataclass
@@ -71,6 +72,7 @@ class Variant:
     task: VariantTask
     sha256: str
     expected_ticks: int
+    expected_bytes: int  # about how large its trajectory gets
 
 
 @dataclass
@@ -96,7 +98,7 @@ def plan_sweep(
     Raises one UserError listing the problems of all invalid variants, before anything runs.
     """
     from .limits import MAX_VARIANTS
-    from .output_files import check_output_folder, inside
+    from .output_files import check_output_folder, estimated_bytes, inside
     from .simulation import check_run_options, load_source
 
     check_run_options(ticks, every)
@@ -125,9 +127,11 @@ def plan_sweep(
         scene_name = loaded.scene.name
         folder = out_dir if out_dir is not None else inside(Path("outputs"), f"{scene_name}-sweep")
         output = folder / f"{scene_name}-{index:0{width}d}-{_slug(label)}.h5"
-        task = VariantTask(index, scene.resolve(), overrides, output.resolve(), ticks, every)
+        task = VariantTask(index, scene.resolve(), overrides, output.resolve(), ticks, every, True)
         expected = ticks if ticks is not None else loaded.scene.world.ticks
-        variants.append(Variant(parameters, label, task, loaded.sha256, expected))
+        size = estimated_bytes(len(loaded.scene.bodies), expected,
+                               every if every is not None else loaded.scene.output.every)
+        variants.append(Variant(parameters, label, task, loaded.sha256, expected, size))
     if problems:
         raise UserError(_name_variants(problems, len(combinations)))
     return SweepPlan(scene_name, folder, swept, variants)
@@ -196,7 +200,8 @@ def run_variant(task: VariantTask) -> VariantOutcome:
 
     try:
         loaded = load_source(task.scene, task.overrides)
-        result = run_scene(loaded, task.output, ticks=task.ticks, every=task.every, quiet=True)
+        result = run_scene(loaded, task.output, ticks=task.ticks, every=task.every, quiet=True,
+                           allow_full_disk=task.allow_full_disk)
     except UserError as err:
         return VariantOutcome(task.index, FAILED, error="; ".join(err.messages))
     except Exception as err:  # a crashed variant must not stop the others
@@ -419,14 +424,19 @@ def run_sweep(
     on_outcome: Callable[[Variant, VariantOutcome], None] | None = None,
     quiet: bool = False,
     local: str = "threads",
+    allow_full_disk: bool = False,
 ) -> SweepResult:
     """Skip finished variants, run the others, write sweep.csv and sweep.json, and return the result.
+    Variants whose trajectories together would not fit on the disk are refused before any runs, unless
+    `allow_full_disk`.
 
     `quiet` silences the one-line notice when the engine must first be compiled. Ctrl-C or SIGTERM
     stops the sweep: running variants end as interrupted (their frames kept), the
     tables are still written (variants that never started as "not run") and the result says
     interrupted.
     """
+    from .output_files import check_free_space, writing_errors
+
     by_index = {variant.task.index: variant for variant in plan.variants}
     result = SweepResult(plan, {})
     pending = []
@@ -436,6 +446,9 @@ def run_sweep(
             pending.append(variant.task)
         else:
             _record(result, by_index, outcome, on_outcome)
+    if not allow_full_disk:
+        needed = sum(by_index[task.index].expected_bytes for task in pending)
+        check_free_space(plan.out_dir / "sweep.json", needed)
     plan.out_dir.mkdir(parents=True, exist_ok=True)
     try:
         if pending and scheduler is None:
@@ -447,7 +460,8 @@ def run_sweep(
             )
     except KeyboardInterrupt:  # between two variants run in this process
         result.interrupted = True
-    write_tables(plan.out_dir, result.rows())
+    with writing_errors(plan.out_dir / "sweep.json"):
+        write_tables(plan.out_dir, result.rows())
     return result
 
 

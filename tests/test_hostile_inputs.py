@@ -253,8 +253,8 @@ def test_a_full_disk_is_one_message_and_leaves_nothing(cli, tmp_path: Path, comp
     monkeypatch.setattr(trajectory.TrajectoryWriter, "append_block", full)
     result = cli("run", scene, "--out", out, "--quiet")
     assert result.exit_code == 1 and "Traceback" not in result.stderr
-    assert result.stderr.strip().splitlines() == [f"{out}: cannot write the output: the disk is full; "
-                                                  "the run's file was removed"]
+    assert result.stderr.strip().splitlines() == [f"{out}: cannot write the output: the disk is full "
+                                                  "(no partial file was left)"]
     assert out.read_bytes() == before  # the previous run's file survives
     assert sorted(p.name for p in tmp_path.iterdir()) == ["o.h5", "o.summary.json", "s.yaml"]
 
@@ -553,6 +553,21 @@ def test_a_real_full_disk_leaves_no_temporary(cli, tmp_path: Path, small_disk: P
     assert_user_error(cli("run", scene, "--out", out, "--quiet"), "the run would write about")
     result = cli("run", scene, "--out", out, "--quiet", "--allow-full-disk")
     assert result.exit_code == 1 and "Traceback" not in result.stderr
-    assert result.stderr.strip() == (f"{out}: cannot write the output: the disk is full; "
-                                     "the run's file was removed")
+    assert result.stderr.strip() == (f"{out}: cannot write the output: the disk is full "
+                                     "(no partial file was left)")
     assert list(small_disk.iterdir()) == []
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_a_sweep_that_would_fill_the_disk_is_refused_before_any_run(cli, tmp_path: Path,
+                                                                    small_disk: Path) -> None:
+    scene = tmp_path / "rain.yaml"
+    scene.write_text(LONG.replace("ticks: 100000000", "ticks: 3000"))
+    out = small_disk / "sweep"
+    assert_user_error(cli("sweep", scene, "-p", "world.precision=1,2", "--out", out, "-w", "1", "-q"),
+                      "the run would write about")
+    assert not out.exists()
+    result = cli("sweep", scene, "-p", "world.precision=1,2", "--out", out, "-w", "1", "-q",
+                 "--allow-full-disk")
+    assert result.exit_code == 1 and "Traceback" not in result.stderr and "the disk is full" in result.stderr
+    assert not list(out.glob(".*"))  # no temporaries left
