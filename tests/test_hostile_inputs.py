@@ -571,3 +571,13 @@ def test_a_sweep_that_would_fill_the_disk_is_refused_before_any_run(cli, tmp_pat
                  "--allow-full-disk")
     assert result.exit_code == 1 and "Traceback" not in result.stderr and "the disk is full" in result.stderr
     assert not list(out.glob(".*"))  # no temporaries left
+
+
+def test_too_many_shapes_are_refused_before_any_work(monkeypatch: pytest.MonkeyPatch) -> None:
+    shapes = ", ".join(["{type: circle, radius: 0.1}"] * 5)
+    text = (f"bodies:\n  - {{name: b, position: [0, 0], shapes: [{shapes}]}}\n"
+            f"generators:\n  - {{name: g, count: 1000, shapes: [{shapes}],\n"
+            "     region: {min: [0, 0], max: [9, 9]}}\n")
+    monkeypatch.setattr(limits, "MAX_SHAPES", limits.Limit("MAX_SHAPES", 5000))
+    assert problems_of(text) == ["s.yaml:2:3: bodies: the bodies have 5005 shapes, more than 5000 "
+                                 "(MAX_SHAPES, see docs/limits.md)"]
