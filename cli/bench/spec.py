@@ -58,8 +58,8 @@ class BodySpec:
     mass: float  # kg; inf for static and kinematic bodies
     fixed_rotation: bool  # a body with an aabb, or a dynamic body of infinite inertia
     group: int  # same non-zero group: never collide
-    bullet: bool  # continuous collision against dynamic bodies too (Box2D's bullets; pymunk has none)
     shapes: tuple[ShapeSpec, ...]
+    bullet: bool = False  # continuous collision against dynamic bodies too (Box2D's bullets; pymunk: none)
 
 
 @dataclass(frozen=True)
