@@ -9,7 +9,7 @@ import numpy as np
 
 from ..errors import UserError
 from .output import atomic_output, check_suffix
-from .plot import PLOT_FORMATS, labels_for
+from .plot import PLOT_FORMATS, labels_for, read_overrides
 
 # quantity -> (series, component or None for a scalar; speed is the norm of the velocity)
 BODY_QUANTITIES = {"position.x": ("position", 0), "position.y": ("position", 1),
@@ -52,13 +52,14 @@ def plot_body(paths: list[Path], body: str, quantity: str, out: Path, title: str
     figure = Figure(figsize=(7, 4.5), layout="constrained")
     FigureCanvasAgg(figure)
     axes = figure.add_subplot()
-    for (time, values), label in zip(series, labels_for(paths), strict=True):
+    labels, legend_title = labels_for(paths, [read_overrides(path) for path in paths])
+    for (time, values), label in zip(series, labels, strict=True):
         axes.plot(time, values, label=label)
     axes.set_xlabel("time (s)")
     axes.set_ylabel(f"{body} {quantity}")
     axes.grid(alpha=0.3)
     if len(paths) > 1:
-        axes.legend()
+        axes.legend(title=legend_title)
     axes.set_title(title or f"{body}: {quantity}")
     with atomic_output(out) as temporary:
         figure.savefig(temporary, format=suffix[1:], dpi=100)
