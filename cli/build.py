@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from .build_joints import add_joints
 from .scene import Aabb, Body, Capsule, Chain, Circle, Material, MaterialRef, Obb, Polygon, Scene, Segment
 
 if TYPE_CHECKING:
@@ -53,6 +54,7 @@ def build_world(scene: Scene) -> rustycs.World:
         )
     for body in scene.bodies:
         _add_body(world, scene, body)
+    add_joints(world, scene)
     return world
 
 

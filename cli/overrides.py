@@ -28,7 +28,7 @@ from .scene import (
 )
 from .yaml_source import Path, parse_value
 
-NAMED_LISTS = ("bodies", "forces", "attractors", "generators")
+NAMED_LISTS = ("bodies", "forces", "attractors", "generators", "joints")
 
 
 @dataclass(frozen=True)

@@ -42,6 +42,9 @@ from rustycs.materials import MATERIALS
 from rustycs.polygon import MAX_POLYGON_VERTICES, polygon_problem
 from rustycs.shapes import MAX_CHAIN_POINTS
 
+if typing.TYPE_CHECKING:
+    from .scene_joints import Joint
+
 Loc = tuple[str | int, ...]
 Problem = tuple[Loc, str]
 
@@ -1193,6 +1196,11 @@ class Scene(_Model):
             ]
         ],
     )
+    joints: list[Joint] = Field(
+        [],
+        description="Joints between bodies, or a body and the fixed world (see docs/joints.md).",
+        examples=[[{"name": "hinge", "type": "revolute", "body": "arm", "anchor": [0, 2]}]],
+    )
     output: Output = Field(
         Output(),
         description="Recording interval and whether contacts are recorded.",
@@ -1207,6 +1215,9 @@ class Scene(_Model):
         for i, generator in enumerate(self.generators):
             if generator.name is None:
                 generator.name = default_generator_name(i)
+        for j, joint in enumerate(self.joints):
+            if joint.name is None:
+                joint.name = scene_joints.default_joint_name(joint.type, j)
         return self
 
     def material_of(self, body: Body) -> Material:
@@ -1296,7 +1307,18 @@ def scene_problems(data: Mapping[str, Any]) -> list[Problem]:
                 if isinstance(shape, dict):
                     at = (*place, "choice", k) if shape is not spec else place
                     check_generated_material(shape.get("material"), ("generators", g, *at, "material"))
-    return problems
+    generated = _generated_names(entries("generators"))
+    return problems + scene_joints.joint_problems(data, [*body_names, *generated])
+
+
+def _generated_names(generators: list[tuple[int, dict[str, Any]]]) -> list[str]:
+    """The names of the bodies of the generators that give their `count`, as written."""
+    return [
+        f"{generator.get('name', default_generator_name(g))}-{i}"
+        for g, generator in generators
+        if isinstance(generator.get("count"), int)
+        for i in range(generator["count"])
+    ]
 
 
 def _choices(spec: Any) -> list[Any]:
@@ -1375,3 +1397,6 @@ def union_tags(annotation: Any) -> list[str]:
         for m in getattr(member, "__metadata__", ())
         if isinstance(m, Tag)
     ]
+
+
+from . import scene_joints  # noqa: E402 (the joint models build on the above and complete Scene)

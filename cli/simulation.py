@@ -95,7 +95,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
             collision_groups=[body.collision_group for body in scene.bodies],
             attractor_names=[a.name or f"attractor-{k}" for k, a in enumerate(scene.attractors)],
             author="unknown", scene_text=loaded.text, overrides=loaded.overrides,
-            contacts=contacts, compress=compress)
+            contacts=contacts, compress=compress, joint_names=[joint.name for joint in scene.joints])
         with writer, _progress_bar(progress, ticks, scene.name) as advance:
             # the engine records a block of frames per call, with no Python per tick; with contacts,
             # one frame per call (the contacts are the world's last tick's)
@@ -126,11 +126,13 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
                     recorded = world.step(count, record=frames, every=every)
                 except rustycs.SimulationDiverged as err:
                     step_seconds += time.perf_counter() - begin
+                    writer.events.append(world.events())
                     record(err.frames)
                     status = "diverged"
                     message = _divergence_message(err, names, tracker.last.tick if tracker.last else 0, out)
                     break
                 step_seconds += time.perf_counter() - begin
+                writer.events.append(world.events())
                 record(recorded)
                 advance(count)
             summary = tracker.summary(
