@@ -41,8 +41,16 @@ from rustycs.continuous import SCRATCH_COLUMNS, hold_back_passes
 from rustycs.events import JOINT_BREAK, Events, new_events, record_event
 from rustycs.geometry import Geometry, new_geometry, update_geometry
 from rustycs.impacts import keep_velocities, resolve_impacts
-from rustycs.joint_solver import (FRAME_COLUMNS, RELAX, SOLVE, WARM, anchor_point, break_joints, joints_pass,
-                                   prepare_joints)
+from rustycs.joint_solver import (
+    FRAME_COLUMNS,
+    RELAX,
+    SOLVE,
+    WARM,
+    anchor_point,
+    break_joints,
+    joints_pass,
+    prepare_joints,
+)
 from rustycs.motion import (
     apply_bounds,
     damp,

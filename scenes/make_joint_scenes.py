@@ -61,7 +61,8 @@ def _rod(name: str, x0: float, length: float) -> dict[str, Any]:
 def double_pendulum() -> Scene:
     return {
         "name": "double_pendulum",
-        "description": "Two 1 m rods hinged end to end, released horizontal: chaotic, and its energy is kept.",
+        "description": "Two 1 m rods hinged end to end, released horizontal: chaotic, and its energy is "
+                       "kept.",
         "world": {"tick_rate": 240, "ticks": 2400, "precision": 8},
         "forces": [GRAVITY],
         "bodies": [_rod("upper", 0.0, 1.0), _rod("lower", 1.0, 1.0)],
@@ -112,16 +113,16 @@ def chain_bridge() -> Scene:
         bodies.append({"name": f"link-{k}", "shape": {"type": "obb", "width": width, "height": 0.125},
                        "position": _p(left + width * (k + 0.5), y - 0.0625), "material": "plastic"})
         joints.append({"name": f"hinge-{k}", "type": "revolute",
-                       **({"body": "link-0"} if k == 0 else {"bodies": [f"link-{k - 1}", f"link-{k}"]}),
+                       "bodies": ["bank-left" if k == 0 else f"link-{k - 1}", f"link-{k}"],
                        "anchor": _p(left + width * k, y - 0.0625)})
-    joints.append({"name": f"hinge-{links}", "type": "revolute", "bodies": ["bank-right", f"link-{links - 1}"],
-                   "anchor": _p(-left, y - 0.0625)})
+    joints.append({"name": f"hinge-{links}", "type": "revolute",
+                   "bodies": [f"link-{links - 1}", "bank-right"], "anchor": _p(-left, y - 0.0625)})
     loads = [{"name": f"crate-{k}", "shape": {"type": "obb", "width": 0.6, "height": 0.6},
               "position": _p(x, 2.0 + k), "material": "stone"} for k, x in enumerate((-4.0, 0.5, 3.0))]
     return {
         "name": "chain_bridge",
-        "description": f"A bridge of {links} planks hinged end to end between two banks; three crates fall on "
-                       "it and it sags under them.",
+        "description": f"A bridge of {links} planks hinged end to end between two banks; three crates "
+                       "fall on it and it sags under them.",
         "world": {"tick_rate": 60, "ticks": 600, "precision": 8},
         "forces": [GRAVITY],
         "bodies": [*bodies, *loads],
@@ -207,8 +208,9 @@ def ragdoll() -> Scene:
         "world": {"tick_rate": 60, "ticks": 600, "precision": 8},
         "forces": [GRAVITY],
         "materials": {"human": HUMAN_MATERIAL},
-        "bodies": [{"name": "ground", "type": "static", "shape": {"type": "obb", "width": 20.0, "height": 1.0},
-                    "position": [0.0, -1.3]}, *steps, *bodies],
+        "bodies": [{"name": "ground", "type": "static",
+                    "shape": {"type": "obb", "width": 20.0, "height": 1.0}, "position": [0.0, -1.3]},
+                   *steps, *bodies],
         "joints": joints,
     }
 
@@ -226,7 +228,8 @@ def crank_slider() -> Scene:
             {"name": "crank", "shape": {"type": "obb", "width": 0.1, "height": crank},
              "position": _p(0.0, crank / 2), "collision_group": 1},
             {"name": "rod", "shape": {"type": "obb", "width": rod, "height": 0.1},
-             "position": _p(reach / 2, crank / 2), "angle": _r(-math.atan2(crank, reach)), "collision_group": 1},
+             "position": _p(reach / 2, crank / 2), "angle": _r(-math.atan2(crank, reach)),
+             "collision_group": 1},
             {"name": "piston", "shape": {"type": "obb", "width": 0.6, "height": 0.4},
              "position": _p(reach, 0.0), "collision_group": 1},
         ],
@@ -246,7 +249,7 @@ def pulley() -> Scene:
         "name": "pulley",
         "description": "Two crates hang from a rope over two fixed wheels: the heavier pulls the lighter up, "
                        "and length_a + length_b stays the same.",
-        "world": {"tick_rate": 60, "ticks": 300, "precision": 8},
+        "world": {"tick_rate": 60, "ticks": 90, "precision": 8},
         "forces": [GRAVITY],
         "bodies": [
             {"name": "heavy", "shape": {"type": "obb", "width": 0.6, "height": 0.6}, "position": [-1.5, 0.0],
@@ -255,7 +258,7 @@ def pulley() -> Scene:
              "material": "plastic"},
         ],
         "joints": [{"name": "rope", "type": "pulley", "bodies": ["heavy", "light"],
-                    "anchors": [[-1.5, 0.3], [1.5, 0.3]], "ground_anchors": [[-1.5, 3.0], [1.5, 3.0]]}],
+                    "anchors": [[-1.5, 0.3], [1.5, 0.3]], "ground_anchors": [[-1.5, 5.0], [1.5, 5.0]]}],
     }
 
 
@@ -273,10 +276,10 @@ def gear_train() -> Scene:
     joints[0]["motor"] = {"speed": 1.0, "max_torque": 100.0}
     joints.append({"name": "rack-guide", "type": "prismatic", "body": "rack", "anchor": [2.25, -0.3],
                    "axis": [1.0, 0.0]})
-    for (first, r1, _), (second, r2, _) in zip(gears, gears[1:]):
+    for (first, r1, _), (second, r2, _) in zip(gears, gears[1:], strict=False):
         # meshing wheels: r1 w1 = -r2 w2, so angle_1 + (r2 / r1) angle_2 stays constant
-        joints.append({"name": f"{first}-{second}", "type": "gear", "joints": [f"{first}-axle", f"{second}-axle"],
-                       "ratio": r2 / r1})
+        joints.append({"name": f"{first}-{second}", "type": "gear",
+                       "joints": [f"{first}-axle", f"{second}-axle"], "ratio": r2 / r1})
     # the rack moves with the pinion's lowest point: v = r w, so angle - translation / r stays constant
     joints.append({"name": "pinion-rack", "type": "gear", "joints": ["pinion-axle", "rack-guide"],
                    "ratio": -1.0 / gears[-1][1]})
@@ -305,15 +308,15 @@ def joint_grid() -> Scene:
                            "shape": {"type": "circle", "radius": 0.4}, "position": [float(k), float(-i)],
                            "material": "bench", "collision_category": 2, "collision_mask": 1})
             if i > 0:
-                joints.append({"name": f"v-{k}-{i}", "type": "revolute", "bodies": [f"c-{k}-{i - 1}", f"c-{k}-{i}"],
-                               "anchor": [float(k), -i + 0.5]})
+                joints.append({"name": f"v-{k}-{i}", "type": "revolute",
+                               "bodies": [f"c-{k}-{i - 1}", f"c-{k}-{i}"], "anchor": [float(k), -i + 0.5]})
             if k > 0:
-                joints.append({"name": f"h-{k}-{i}", "type": "revolute", "bodies": [f"c-{k - 1}-{i}", f"c-{k}-{i}"],
-                               "anchor": [k - 0.5, float(-i)]})
+                joints.append({"name": f"h-{k}-{i}", "type": "revolute",
+                               "bodies": [f"c-{k - 1}-{i}", f"c-{k}-{i}"], "anchor": [k - 0.5, float(-i)]})
     return {
         "name": "joint_grid",
-        "description": f"Box2D v3's benchmark joint_grid: {GRID} x {GRID} circles joined by {len(joints)} revolute "
-                       "joints hang from seven static circles, 500 steps of 1/60 s.",
+        "description": f"Box2D v3's benchmark joint_grid: {GRID} x {GRID} circles joined by {len(joints)} "
+                       "revolute joints hang from seven static circles, 500 steps of 1/60 s.",
         "world": {"tick_rate": 60, "ticks": 500, "precision": 4},
         "forces": [{"name": "gravity", "acceleration": [0.0, -10.0]}],
         "materials": {"bench": {"density": 1.0, "restitution": 0.0, "friction": 0.6}},
@@ -360,7 +363,8 @@ BENCH = (joint_grid, ragdoll_rain)
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=HERE, help="folder of the demos (bench scenes: its bench/)")
+    parser.add_argument("--out", type=Path, default=HERE,
+                        help="folder of the demos (the bench scenes go to its bench/)")
     args = parser.parse_args()
     for make, folder, depth in [*((m, args.out, "../") for m in DEMOS),
                                 *((m, args.out / "bench", "../../") for m in BENCH)]:
