@@ -75,6 +75,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
         check_output_path,
         package_version,
     )
+    from .trajectory_joints import joint_drawing
 
     started = time.perf_counter() if started is None else started
     scene = loaded.scene
@@ -95,7 +96,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
             collision_groups=[body.collision_group for body in scene.bodies],
             attractor_names=[a.name or f"attractor-{k}" for k, a in enumerate(scene.attractors)],
             author="unknown", scene_text=loaded.text, overrides=loaded.overrides,
-            contacts=contacts, compress=compress, joint_names=[joint.name for joint in scene.joints])
+            contacts=contacts, compress=compress, joints=joint_drawing(scene))
         with writer, _progress_bar(progress, ticks, scene.name) as advance:
             # the engine records a block of frames per call, with no Python per tick; with contacts,
             # one frame per call (the contacts are the world's last tick's)

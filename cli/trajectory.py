@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 
 from .errors import UserError
 from .trajectory_events import EventWriter
-from .trajectory_joints import FRAME_FIELDS, JOINT_SERIES, frame_joints, write_joint_table
+from .trajectory_joints import FRAME_FIELDS, JOINT_SERIES, JointDrawing, frame_joints, write_joint_table
 
 if TYPE_CHECKING:  # imported lazily at run time, so that `rustycs --help` stays fast
     import h5py
@@ -283,7 +283,7 @@ class TrajectoryWriter:
     def __init__(self, path: Path, world: Any, *, names: list[str], materials: list[str],
                  shape_materials: list[str], collision_groups: list[int], attractor_names: list[str],
                  author: str, scene_text: str, overrides: tuple[str, ...], contacts: bool, compress: bool,
-                 joint_names: list[str] | None = None):
+                 joints: JointDrawing | None = None):
         import h5py
 
         from .shape_table import shape_table, write_shapes
@@ -298,9 +298,9 @@ class TrajectoryWriter:
                                scene_text, overrides)
             write_shapes(self._file, shape_table(world, shape_materials))
             self.events = EventWriter(self._file, self.dt)
-            joints = write_joint_table(self._file, world, joint_names or [])
+            table = write_joint_table(self._file, world, joints)
             self._create_series(world.body_count, contacts,
-                                {"compression": "gzip", "shuffle": True} if compress else {}, joints)
+                                {"compression": "gzip", "shuffle": True} if compress else {}, table)
         except BaseException:
             self.discard()
             raise

@@ -92,8 +92,11 @@ def parse_box(text: str, option: str = "--view") -> Box:
 
 
 def fit_box(file: h5py.File, run: RunInfo) -> Box:
-    """A box around the active bodies of the first and the last frame (statics included) and the
-    attractors, with a margin: bodies that flew far away do not shrink the interesting part to a dot."""
+    """A box around the active bodies and whole joints of the first and the last frame (statics included)
+    and the attractors, with a margin: bodies that flew far away do not shrink the interesting part to a
+    dot."""
+    from .joints import joint_lines
+
     corners = [np.asarray(attractor.position).reshape(1, 2) for attractor in run.attractors]
     for index in {0, run.frame_count - 1}:
         position = np.asarray(file[f"{BODIES}/position/value"][index], dtype=np.float64)
@@ -101,7 +104,7 @@ def fit_box(file: h5py.File, run: RunInfo) -> Box:
         boxes = body_hitboxes(run, position, angle)
         active = np.asarray(file[f"{BODIES}/active/value"][index], dtype=bool)
         active &= np.isfinite(boxes).all(axis=1)
-        corners += [boxes[active, :2], boxes[active, 2:]]
+        corners += [boxes[active, :2], boxes[active, 2:], *joint_lines(run.joints, index, position, angle)[0]]
     points = np.concatenate(corners + [np.zeros((0, 2))])
     if len(points) == 0:
         return (-5.0, -5.0, 5.0, 5.0)
