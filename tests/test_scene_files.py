@@ -35,7 +35,7 @@ DEMOS = sorted(
 )
 BENCH = ["S1_bounce", "S2_pyramid20", "S3_pyramid40", "S4_rain1000", "S5_polypile500", "S6_orbits",
          "compounds", "joint_grid", "ragdoll_rain", "shower"]
-SLOW_TO_LOAD = ["joint_grid"]  # 30,000 entries: tens of seconds of YAML; `rustycs bench` loads it
+SLOW_TO_LOAD = ["joint_grid"]  # 30,000 entries: tens of seconds of YAML; tests/test_joint_scenes.py checks it
 
 
 def test_the_scenes_are_all_there() -> None:
