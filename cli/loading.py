@@ -132,9 +132,12 @@ def _expand(scene: Scene, locate: _Locator) -> Scene:
 
 
 def _resolved_text(scene: Scene) -> str:
-    """The scene as YAML: complete settings, and bodies without the fields left at their defaults."""
-    data = scene.model_dump(mode="json", exclude={"generators", "bodies"})
+    """The scene as YAML: complete settings, and bodies and joints without the fields left at their
+    defaults."""
+    data = scene.model_dump(mode="json", exclude={"generators", "bodies", "joints"})
     data["bodies"] = [body.model_dump(mode="json", exclude_defaults=True) for body in scene.bodies]
+    if scene.joints:  # a scene without joints resolves to the same text as before joints existed
+        data["joints"] = [joint.model_dump(mode="json", exclude_defaults=True) for joint in scene.joints]
     data["output"] = data.pop("output")
     return dump_scene_yaml(data, RESOLVED_HEADER)
 

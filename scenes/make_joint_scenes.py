@@ -184,7 +184,7 @@ def human(prefix: str, x: float, y: float, group: int) -> tuple[list[dict[str, A
     other (`group`)."""
     bodies, joints = [], []
     for name, parent, centre, (low, high), radius, pivot, limits in BONES:
-        bodies.append({"name": f"{prefix}{name}", "position": _p(x, y + centre), "material": "human",
+        bodies.append({"name": f"{prefix}{name}", "position": _p(x, y + centre), "material": "skin",
                        "collision_group": group,
                        "shape": {"type": "capsule", "length": _r(high - low), "radius": radius,
                                  "offset": _p(0.0, (high + low) / 2), "angle": _r(math.pi / 2)}})
@@ -197,8 +197,9 @@ def human(prefix: str, x: float, y: float, group: int) -> tuple[list[dict[str, A
 
 
 def ragdoll() -> Scene:
-    bodies, joints = human("", 0.0, 2.0, 1)
-    bodies[0]["angular_velocity"] = 2.0  # it tumbles as it falls
+    bodies, joints = human("", 0.3, 1.0, 1)
+    for bone in bodies:  # it stumbles forward off the top step
+        bone["velocity"] = [1.5, 0.0]
     steps = [{"name": f"step-{k}", "type": "static", "shape": {"type": "obb", "width": 1.0, "height": 0.4},
               "position": _p(0.6 + k, 0.6 - 0.4 * k)} for k in range(3)]
     return {
@@ -207,7 +208,7 @@ def ragdoll() -> Scene:
                        "friction, tumbling down three steps.",
         "world": {"tick_rate": 60, "ticks": 600, "precision": 8},
         "forces": [GRAVITY],
-        "materials": {"human": HUMAN_MATERIAL},
+        "materials": {"skin": HUMAN_MATERIAL},
         "bodies": [{"name": "ground", "type": "static",
                     "shape": {"type": "obb", "width": 20.0, "height": 1.0}, "position": [0.0, -1.3]},
                    *steps, *bodies],
@@ -350,7 +351,7 @@ def ragdoll_rain() -> Scene:
                        "(which adds and removes its humans as it goes), 500 steps of 1/60 s.",
         "world": {"tick_rate": 60, "ticks": 500, "precision": 4},
         "forces": [{"name": "gravity", "acceleration": [0.0, -10.0]}],
-        "materials": {"human": HUMAN_MATERIAL},
+        "materials": {"skin": HUMAN_MATERIAL},
         "bodies": bodies,
         "joints": joints,
     }
