@@ -51,6 +51,7 @@ DESCRIPTIONS = {  # key: meaning, in output order (documents every statistic)
     "max_speed": "highest speed of an active dynamic body, m/s",
     "escaped_bodies": "dynamic bodies that left the world bounds",
     "bodies_at_rest": "active dynamic bodies at rest at the end",
+    "broken_joints": "joints broken by the end (break_force, break_torque)",
     "divergence": "where a non-finite value appeared (diverged runs)",
 }
 
@@ -137,6 +138,7 @@ class SummaryTracker:
             "max_speed": self.max_speed,
             "escaped_bodies": int((self.dynamic & ~last.active).sum()),
             "bodies_at_rest": int(at_rest.sum()),
+            "broken_joints": 0 if last.joints is None else int((~last.joints["active"]).sum()),
             "divergence": divergence,
         }
         return {key: values[key] for key in DESCRIPTIONS}

@@ -66,6 +66,7 @@ output: {every: 1}
 
 def test_the_trajectory_holds_the_joints_and_their_break_events(cli, tmp_path: Path) -> None:
     with run(cli, HANGING, tmp_path / "hanging.h5") as file:
+        assert file["parameters/summary"].attrs["broken_joints"] == 1
         joints = file["joints"]
         assert read_strings(joints["name"]) == ["string", "hinge"]
         assert read_strings(joints["type"]) == ["distance", "revolute"]
