@@ -10,7 +10,7 @@ import sys
 
 import typer
 
-from .commands import bench, compare, info, plot, render, run, schema, sweep, validate
+from .commands import bench, compare, info, plot, render, run, schema, sweep, validate, watch
 from .errors import UserError
 
 app = typer.Typer(
@@ -22,7 +22,26 @@ app = typer.Typer(
     pretty_exceptions_enable=False,
 )
 
-for module in (run, validate, schema, sweep, compare, render, plot, info, bench):
+
+
+def _print_version(asked: bool) -> None:
+    if asked:
+        from .trajectory import package_version
+
+        typer.echo(f"rustycs {package_version()}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _options(
+    version: bool = typer.Option(
+        False, "--version", callback=_print_version, is_eager=True, help="Print rustycs's version and exit."
+    ),
+) -> None:
+    """rustycs: a deterministic 2D rigid-body physics engine and batch simulator."""
+
+
+for module in (run, validate, schema, sweep, compare, render, plot, info, bench, watch):
     app.command(name=module.NAME, help=module.command.__doc__)(module.command)
 
 

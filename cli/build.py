@@ -10,6 +10,7 @@ from .scene import Aabb, Body, Capsule, Chain, Circle, Material, MaterialRef, Ob
 if TYPE_CHECKING:
     import rustycs
 
+    from .scenario import RunPlan
     from .scene import Shape
 
 
@@ -32,8 +33,9 @@ def _material_name(ref: MaterialRef) -> str:
     return "inline" if isinstance(ref, Material) else ref
 
 
-def build_world(scene: Scene) -> rustycs.World:
-    """A World holding the scene's settings, forces, attractors and bodies (in scene order)."""
+def build_world(scene: Scene, plan: RunPlan | None = None) -> rustycs.World:
+    """A World holding the scene's settings, forces, attractors and bodies (in scene order); with a run's
+    plan, the bodies are its scene's (emitted bodies included), each appearing and going as planned."""
     import rustycs
 
     world = rustycs.World(
@@ -52,13 +54,13 @@ def build_world(scene: Scene) -> rustycs.World:
             range=attractor.range,
             min_distance=attractor.min_distance,
         )
-    for body in scene.bodies:
-        _add_body(world, scene, body)
+    for index, body in enumerate(scene.bodies):
+        _add_body(world, scene, body, **(plan.timing(index) if plan else {}))
     add_joints(world, scene)
     return world
 
 
-def _add_body(world: rustycs.World, scene: Scene, body: Body) -> int:
+def _add_body(world: rustycs.World, scene: Scene, body: Body, **timing: int | None) -> int:
     """Add one body with all its shapes and keys; returns its index."""
     return world.add_body(
         [_shape(shape, scene) for shape in body.shapes or ()],
@@ -77,6 +79,8 @@ def _add_body(world: rustycs.World, scene: Scene, body: Body) -> int:
         gravity_scale=body.gravity_scale,
         fixed_rotation=body.fixed_rotation,
         bullet=body.bullet,
+        name=body.name,
+        **timing,
     )
 
 

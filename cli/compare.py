@@ -2,8 +2,9 @@
 
 Two runs of the same scene should give bitwise identical files (the determinism guarantee), so the
 bytes are checked first; when they differ, each quantity gets error statistics so that a user can
-tell a rounding-level change from a real regression. Files can be far larger than memory, so both
-are read in blocks of frames and the statistics are accumulated block by block.
+tell a rounding-level change from a real regression. Runs recorded at different `--every` are compared
+on the ticks both recorded. Files can be far larger than memory, so both are read in blocks of frames
+and the statistics are accumulated block by block.
 """
 
 from __future__ import annotations
@@ -106,6 +107,8 @@ class Comparison:
     quantities: list[QuantityErrors]
     only_in_a: list[str] = field(default_factory=list)
     only_in_b: list[str] = field(default_factory=list)
+    frames_a: int = 0  # frames each file holds; `frames` of them are at ticks both recorded
+    frames_b: int = 0
 
     @property
     def within_tolerance(self) -> bool:
@@ -133,6 +136,8 @@ class Comparison:
             "atol": self.atol,
             "rtol": self.rtol,
             "frames": self.frames,
+            "frames_a": self.frames_a,
+            "frames_b": self.frames_b,
             "bodies": len(self.body_names),
             "quantities": {
                 q.name: {
@@ -163,7 +168,8 @@ def compare_trajectories(
     if atol < 0 or rtol < 0:
         raise UserError("--atol and --rtol must not be negative")
     with open_trajectory(a) as fa, open_trajectory(b) as fb:
-        names, steps = _check_comparable(fa, fb)
+        names, shared = _check_comparable(fa, fb)
+        steps = shared.steps
         datasets = dict(_datasets(fa, fb))
         only_in_a = sorted(set(fa.get("observables", {})) - set(fb.get("observables", {})))
         only_in_b = sorted(set(fb.get("observables", {})) - set(fa.get("observables", {})))
@@ -174,7 +180,7 @@ def compare_trajectories(
         for start in range(0, frames, block):
             stop = min(start + block, frames)
             for name, (da, db, wrap) in datasets.items():
-                xa, xb = da[start:stop], db[start:stop]
+                xa, xb = shared.rows(da, shared.a, start, stop), shared.rows(db, shared.b, start, stop)
                 if xa.dtype == xb.dtype and np.array_equal(_raw(xa), _raw(xb)):
                     quantities[name].add_equal(xa.size)
                     continue
@@ -182,12 +188,33 @@ def compare_trajectories(
                 error, outside = _errors(xa, xb, atol, rtol, wrap)
                 quantities[name].add(error, outside, steps[start:stop])
     return Comparison(
-        a, b, atol, rtol, frames, names, identical, list(quantities.values()), only_in_a, only_in_b
+        a, b, atol, rtol, frames, names, identical, list(quantities.values()), only_in_a, only_in_b,
+        len(shared.a_steps), len(shared.b_steps)
     )
 
 
-def _check_comparable(fa: h5py.File, fb: h5py.File) -> tuple[list[str], np.ndarray]:
-    """Return the body names and frame steps shared by both files, or raise NotComparable."""
+@dataclass(frozen=True)
+class SharedFrames:
+    """The frames of the ticks both files recorded: their rows in each file."""
+
+    a_steps: np.ndarray
+    b_steps: np.ndarray
+    steps: np.ndarray  # the shared ticks, increasing
+    a: np.ndarray  # rows in A of the shared ticks
+    b: np.ndarray
+
+    @staticmethod
+    def rows(dataset: h5py.Dataset, rows: np.ndarray, start: int, stop: int) -> np.ndarray:
+        """The shared frames start..stop of one file: the span read whole, then the rows taken."""
+        part = rows[start:stop]
+        if len(part) == 0:
+            return dataset[0:0]
+        span = dataset[int(part[0]) : int(part[-1]) + 1]
+        return span if len(span) == len(part) else span[part - part[0]]
+
+
+def _check_comparable(fa: h5py.File, fb: h5py.File) -> tuple[list[str], SharedFrames]:
+    """Return the body names and the frames of the ticks both files recorded, or raise NotComparable."""
     from .trajectory import read_strings
 
     names_a, names_b = read_strings(fa[f"{BODIES}/name"]), read_strings(fb[f"{BODIES}/name"])
@@ -203,13 +230,19 @@ def _check_comparable(fa: h5py.File, fb: h5py.File) -> tuple[list[str], np.ndarr
         raise NotComparable(f"not comparable: different time steps (dt {dt_a} in A, {dt_b} in B)")
     steps_a = fa[f"{BODIES}/position/step"][()]
     steps_b = fb[f"{BODIES}/position/step"][()]
-    if not np.array_equal(steps_a, steps_b):
+    if len(steps_a) and len(steps_b) and steps_a[-1] != steps_b[-1]:
         raise NotComparable(
-            "not comparable: different frames "
+            f"not comparable: runs of different lengths (A ends at tick {int(steps_a[-1])}, "
+            f"B at tick {int(steps_b[-1])})"
+        )
+    steps, rows_a, rows_b = np.intersect1d(steps_a, steps_b, assume_unique=True, return_indices=True)
+    if len(steps) == 0:
+        raise NotComparable(
+            "not comparable: no tick recorded in both "
             f"(A has {len(steps_a)} frames, ticks {_span(steps_a)}; "
             f"B has {len(steps_b)} frames, ticks {_span(steps_b)})"
         )
-    return names_a, steps_a
+    return names_a, SharedFrames(steps_a, steps_b, steps, rows_a, rows_b)
 
 
 def _span(steps: np.ndarray) -> str:
@@ -225,7 +258,7 @@ def _datasets(fa: h5py.File, fb: h5py.File) -> Iterator[tuple[str, tuple[h5py.Da
     shared = sorted(set(fa.get("observables", {})) & set(fb.get("observables", {})))
     for name in shared:
         da, db = fa[f"observables/{name}/value"], fb[f"observables/{name}/value"]
-        if da.shape != db.shape:
+        if da.shape[1:] != db.shape[1:]:
             raise NotComparable(
                 f"not comparable: observable {name} has shape {da.shape} in A and {db.shape} in B"
             )
@@ -279,6 +312,11 @@ def print_comparison(comparison: Comparison) -> None:
         f"{comparison.a} vs {comparison.b}: {comparison.frames} frames, "
         f"{len(comparison.body_names)} bodies, tolerance {tolerance}"
     )
+    if comparison.frames < max(comparison.frames_a, comparison.frames_b):
+        console.print(
+            f"compared the {comparison.frames} frames at ticks both recorded "
+            f"(A has {comparison.frames_a}, B {comparison.frames_b})"
+        )
     for side, names in (("A", comparison.only_in_a), ("B", comparison.only_in_b)):
         if names:
             console.print(f"only in {side} (not compared): {', '.join(names)}")

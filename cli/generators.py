@@ -225,6 +225,10 @@ def generate(generator: Generator, seed: int) -> list[dict[str, Any]]:
         if generator.mass is not None:
             body["mass"] = draws.value(generator.mass, "mass")
         bodies.append(body)
+    if generator.placement == "no_overlap" and generator.region is not None:
+        from .placement import place_apart
+
+        place_apart(bodies, lambda: _positions(generator, 1, draws)[0], generator.name)
     return bodies
 
 

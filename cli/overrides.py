@@ -29,7 +29,7 @@ from .scene import (
 from .scene_joints import default_joint_name
 from .yaml_source import Path, parse_value
 
-NAMED_LISTS = ("bodies", "forces", "attractors", "generators", "joints")
+NAMED_LISTS = ("bodies", "forces", "attractors", "generators", "joints", "emitters", "sinks", "measures")
 
 
 @dataclass(frozen=True)

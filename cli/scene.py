@@ -616,6 +616,16 @@ class Rect(_Model):
         return self
 
 
+from .scene_measures import (  # noqa: E402  (built on the models above)
+    DURATION_FIELD,
+    MEASURES_FIELD,
+    STOP_WHEN_FIELD,
+    Measure,
+    StopCondition,
+    measure_problems,
+)
+
+
 class World(_Model):
     """Time stepping and world-wide settings."""
 
@@ -631,7 +641,9 @@ class World(_Model):
     precision: int = Field(
         defaults.PRECISION,
         ge=1,
-        description="Solver iterations per tick (the thesis's collision precision). >= 1.",
+        description="Solver substeps per tick (the thesis's collision precision): each substep of "
+        "dt / precision applies the forces, solves contacts and joints and moves the bodies. More substeps "
+        "hold stacks and joints stiffer and cost more time per tick. >= 1.",
         examples=[10],
     )
     gravitational_constant: float = Field(
@@ -649,6 +661,19 @@ class World(_Model):
         description="Contacts approaching slower than this, m/s, do not bounce (addition).",
         examples=[1.0],
     )
+    duration: float | None = DURATION_FIELD
+    stop_when: list[StopCondition] = STOP_WHEN_FIELD
+
+    @property
+    def run_ticks(self) -> int:
+        """The run length in ticks: from `duration` when given, else `ticks`."""
+        return self.ticks if self.duration is None else round(self.duration * self.tick_rate)
+
+    @model_serializer(mode="wrap")
+    def _one_run_length(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        data = handler(self)
+        data.pop("ticks" if self.duration is not None else "duration", None)
+        return _without_unused(data, stop_when=[])
 
 
 class Output(_Model):
@@ -656,6 +681,21 @@ class Output(_Model):
 
     every: int = Field(1, ge=1, description="Record every N ticks (tick 0 is always recorded).", examples=[4])
     contacts: bool = Field(False, description="Also record every contact point.", examples=[True])
+    events: bool = Field(
+        False,
+        description="Also record contact_begin / contact_end events (the other events always).",
+        examples=[True],
+    )
+
+    @model_serializer(mode="wrap")
+    def _written_when_used(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        return _without_unused(handler(self), events=False)
+
+
+def _without_unused(data: dict[str, Any], **unused: Any) -> dict[str, Any]:
+    """A model's data without the keys of emitters, measures and stop conditions left at these values, so a
+    scene that does not use them resolves to the same text (and hash) as before they existed."""
+    return {key: value for key, value in data.items() if key not in unused or value != unused[key]}
 
 
 # ----------------------------------------------------------------------------------------------- generators
@@ -1094,6 +1134,12 @@ class Generator(_Model):
     )
     fixed_rotation: bool = Field(False, description="fixed_rotation of every body.", examples=[True])
     bullet: bool = Field(False, description="bullet of every body.", examples=[True])
+    placement: Literal["free", "no_overlap"] = Field(
+        "free",
+        description="free: positions drawn in `region` as they come; no_overlap: a body whose bounding "
+        "circle overlaps one placed before is drawn again (an error after 100 draws).",
+        examples=["no_overlap"],
+    )
 
     _shape_or_shapes = model_validator(mode="wrap")(_shape_keys)
 
@@ -1114,6 +1160,8 @@ class Generator(_Model):
             raise PydanticCustomError("count_required", "missing key 'count'", {})
         return self
 
+
+from .scene_emitters import EMITTERS_FIELD, SINKS_FIELD, Emitter, Sink  # noqa: E402  (built on the above)
 
 # -------------------------------------------------------------------------------------------------- scene
 
@@ -1157,7 +1205,8 @@ class Scene(_Model):
     )
     world: World = Field(
         World(),
-        description="Tick rate, run length, solver precision, G, bounds and restitution threshold.",
+        description="Tick rate, run length, solver substeps (precision), G, bounds and restitution "
+        "threshold.",
         examples=[{"tick_rate": 240, "ticks": 1200, "precision": 10}],
     )
     forces: list[Force] = Field(
@@ -1201,6 +1250,9 @@ class Scene(_Model):
         description="Joints between bodies, or a body and the fixed world (see docs/joints.md).",
         examples=[[{"name": "hinge", "type": "revolute", "body": "arm", "anchor": [0, 2]}]],
     )
+    emitters: list[Emitter] = EMITTERS_FIELD
+    sinks: list[Sink] = SINKS_FIELD
+    measures: list[Measure] = MEASURES_FIELD
     output: Output = Field(
         Output(),
         description="Recording interval and whether contacts are recorded.",
@@ -1219,6 +1271,10 @@ class Scene(_Model):
             if joint.name is None:
                 joint.name = scene_joints.default_joint_name(joint.type, j)
         return self
+
+    @model_serializer(mode="wrap")
+    def _written_when_used(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        return _without_unused(handler(self), joints=[], emitters=[], sinks=[], measures=[])
 
     def material_of(self, body: Body) -> Material:
         """The material a body uses (user materials take precedence over presets)."""
@@ -1308,7 +1364,8 @@ def scene_problems(data: Mapping[str, Any]) -> list[Problem]:
                     at = (*place, "choice", k) if shape is not spec else place
                     check_generated_material(shape.get("material"), ("generators", g, *at, "material"))
     generated = _generated_names(entries("generators"))
-    return problems + scene_joints.joint_problems(data, [*body_names, *generated])
+    return (problems + measure_problems(data, body_names, generator_names)
+            + scene_joints.joint_problems(data, [*body_names, *generated]))
 
 
 def _generated_names(generators: list[tuple[int, dict[str, Any]]]) -> list[str]:

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from .loading import LoadedScene
 
-EXIT_CODES = {"complete": 0, "diverged": 1, "interrupted": 130}
+EXIT_CODES = {"complete": 0, "stopped": 0, "diverged": 1, "interrupted": 130}
 COMPILE_SECONDS = 30  # rough first-compilation time of the engine, for the notice
 BLOCK_TICKS = 256  # at most about this many ticks per engine call, so that Ctrl-C is answered promptly
 
@@ -33,7 +33,7 @@ class RunResult:
     path: Path
     sidecar: Path
     summary: dict[str, Any]
-    status: str  # complete | interrupted | diverged
+    status: str  # complete | stopped | interrupted | diverged
     exit_code: int  # 0 | 130 | 1
     message: str | None  # why a run did not complete, for stderr
 
@@ -67,7 +67,8 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
     import rustycs
 
     from .build import build_world, material_names, shape_material_names
-    from .summary import SummaryTracker, sidecar_path, to_json, write_text_atomic
+    from .scenario import attach, measure_columns, measure_results, plan_run, stop_reason
+    from .summary import SummaryTracker, energy_conservation, sidecar_path, to_json, write_text_atomic
     from .trajectory import (
         BLOCK_FRAMES,
         Frame,
@@ -78,18 +79,20 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
     from .trajectory_joints import joint_drawing
 
     started = time.perf_counter() if started is None else started
-    scene = loaded.scene
-    ticks = scene.world.ticks if ticks is None else ticks
+    ticks = loaded.scene.world.run_ticks if ticks is None else ticks
+    plan = plan_run(loaded.scene, ticks)
+    scene = plan.scene  # with the bodies its emitters may emit
     every = scene.output.every if every is None else every
     contacts = scene.output.contacts if contacts is None else contacts
     check_output_path(out)
     with _stop_requests() as stop_requested:
-        world = build_world(scene)
+        world = build_world(scene, plan)
+        attach(world, plan, contact_events=scene.output.events)
         if rustycs.compile_needed() and not quiet:
             print(f"rustycs: compiling the engine (happens once, ~{COMPILE_SECONDS} s)...", file=sys.stderr)
         warm_up()
         names = [body.name for body in scene.bodies]
-        tracker = SummaryTracker(list(world.body_types))
+        tracker = SummaryTracker(list(world.body_types), energy_conservation(scene))
         writer = TrajectoryWriter(
             out, world, names=names, materials=material_names(scene),
             shape_materials=shape_material_names(scene),
@@ -136,10 +139,14 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
                 writer.events.append(world.events())
                 record(recorded)
                 advance(count)
+                if world.stop_condition is not None:
+                    status = "stopped"
+                    break
             summary = tracker.summary(
                 scene=scene.name, scene_sha256=loaded.sha256, status=status, seed=scene.seed, dt=world.dt,
                 wall_seconds=time.perf_counter() - started, step_seconds=step_seconds,
                 divergence=message if status == "diverged" else None)
+            summary.update(stop_reason=stop_reason(world, scene), measures=measure_results(world, scene))
             parameters = {
                 "scene_sha256": loaded.sha256, "seed": scene.seed, "rustycs_version": package_version(),
                 "status": status, "ticks_completed": summary["ticks"], "dt": world.dt,
@@ -147,9 +154,10 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
                 "wall_seconds": summary["wall_seconds"], "step_seconds": step_seconds,
                 "ticks_requested": ticks, "every": every, "contacts": contacts,
                 "gravitational_constant": scene.world.gravitational_constant, "frames": summary["frames"],
-                "divergence": summary["divergence"],
+                "divergence": summary["divergence"], "stop_reason": summary["stop_reason"],
             }
-            writer.finish(parameters, summary)
+            attributes = {key: value for key, value in summary.items() if key != "measures"}
+            writer.finish(parameters, {**attributes, **measure_columns(summary["measures"])})
         sidecar = sidecar_path(out)
         write_text_atomic(sidecar, to_json(summary) + "\n")
     return RunResult(out, sidecar, summary, status, EXIT_CODES[status], message)

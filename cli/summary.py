@@ -4,6 +4,10 @@ The statistics are those a batch user compares across a sweep (trajectory-format
 statistics"). Per-tick quantities (contacts, penetration, speed) are taken over the recorded frames,
 so with `output.every` > 1 they are sampled every `every` ticks. "Final" values are those of the last
 recorded frame, which after a divergence is the last finite one.
+
+The change of total energy is reported in every run, and called drift (numerical error) only in runs
+where nothing can gain or lose energy physically: bouncing balls of restitution below 1 lose energy
+to their contacts, which is physics, not error.
 """
 
 from __future__ import annotations
@@ -18,16 +22,21 @@ if TYPE_CHECKING:
     import numpy as np
     from rich.table import Table
 
+    from .scene import Scene
     from .trajectory import Frame
 
 _EXTREMES = ("max_penetration", "contact_count", "max_speed")  # per-frame observables summed up or maxed
 REST_SPEED = 1e-3  # m/s: a dynamic body slower than this (and REST_ANGULAR_SPEED) is at rest
 REST_ANGULAR_SPEED = 1e-3  # rad/s
+# what can change a run's total energy physically (energy_conservation)
+CONSERVED = "conserved"  # nothing: every contact is elastic and frictionless, nothing else does work
+CONSERVED_WITHOUT_CONTACTS = "conserved without contacts"  # contacts can dissipate; nothing else does
+NOT_CONSERVED = "not conserved"  # damping, joints, moving kinematic bodies, emitters or sinks
 
 DESCRIPTIONS = {  # key: meaning, in output order (documents every statistic)
     "scene": "scene name",
     "scene_sha256": "SHA-256 of the resolved scene text",
-    "status": "complete | interrupted | diverged",
+    "status": "complete | stopped | interrupted | diverged",
     "seed": "seed of the generators",
     "ticks": "ticks completed",
     "frames": "frames recorded (tick 0 included)",
@@ -41,7 +50,12 @@ DESCRIPTIONS = {  # key: meaning, in output order (documents every statistic)
     "final_kinetic_energy": "kinetic energy at the last frame, J",
     "initial_potential_energy": "potential energy at tick 0, J",
     "final_potential_energy": "potential energy at the last frame, J",
-    "energy_drift": "final - initial total energy, J",
+    "energy_change": "final - initial total energy (kinetic + potential), J; negative when energy was "
+    "dissipated (restitution below 1, friction, damping) or left with escaped bodies",
+    "relative_energy_change": "energy_change / |initial total energy|",
+    "energy_drift": "numerical error of the total energy, J: the energy_change of a run in which nothing "
+    "can gain or lose energy physically (no contacts, or only elastic frictionless ones; no damping, "
+    "joints, moving kinematic bodies or escapes); null in other runs",
     "relative_energy_drift": "energy_drift / |initial total energy|",
     "linear_momentum_drift": "|final - initial linear momentum|, kg m/s",
     "angular_momentum_drift": "|final - initial angular momentum|, kg m^2/s",
@@ -53,15 +67,18 @@ DESCRIPTIONS = {  # key: meaning, in output order (documents every statistic)
     "bodies_at_rest": "active dynamic bodies at rest at the end",
     "broken_joints": "joints broken by the end (break_force, break_torque)",
     "divergence": "where a non-finite value appeared (diverged runs)",
+    "stop_reason": "the world.stop_when condition that ended the run (stopped runs), as written",
+    "measures": "the scene's measures by name: a number, null, or a histogram's counts per bin",
 }
 
 
 class SummaryTracker:
     """Accumulates the statistics frame by frame, so a run never has to be read back to summarise it."""
 
-    def __init__(self, body_types: list[str]):
+    def __init__(self, body_types: list[str], conservation: str = NOT_CONSERVED):
         import numpy as np
 
+        self.conservation = conservation  # what can change the run's energy (energy_conservation)
         self.body_types = [str(kind) for kind in body_types]
         self.dynamic = np.array([kind == "dynamic" for kind in self.body_types], dtype=bool)
         self.first: Frame | None = None
@@ -106,7 +123,11 @@ class SummaryTracker:
             raise ValueError("no frame recorded")
         start, end = first.observables, last.observables
         energy_start = float(start["kinetic_energy"]) + float(start["potential_energy"])
-        energy_drift = float(end["kinetic_energy"]) + float(end["potential_energy"]) - energy_start
+        energy_change = float(end["kinetic_energy"]) + float(end["potential_energy"]) - energy_start
+        escaped = int((self.dynamic & ~last.active).sum())
+        conserved = escaped == 0 and (self.conservation == CONSERVED or (
+            self.conservation == CONSERVED_WITHOUT_CONTACTS and self.total_contacts == 0))
+        energy_drift = energy_change if conserved else None
         moving = self.dynamic & last.active
         speed = np.hypot(last.velocity[:, 0], last.velocity[:, 1])
         at_rest = moving & (speed < REST_SPEED) & (np.abs(last.angular_velocity) < REST_ANGULAR_SPEED)
@@ -127,8 +148,11 @@ class SummaryTracker:
             "final_kinetic_energy": float(end["kinetic_energy"]),
             "initial_potential_energy": float(start["potential_energy"]),
             "final_potential_energy": float(end["potential_energy"]),
+            "energy_change": energy_change,
+            "relative_energy_change": energy_change / abs(energy_start) if energy_start else None,
             "energy_drift": energy_drift,
-            "relative_energy_drift": energy_drift / abs(energy_start) if energy_start else None,
+            "relative_energy_drift": energy_drift / abs(energy_start)
+            if energy_drift is not None and energy_start else None,
             "linear_momentum_drift": float(np.hypot(*(
                 np.asarray(end["linear_momentum"]) - np.asarray(start["linear_momentum"])))),
             "angular_momentum_drift": abs(float(end["angular_momentum"]) - float(start["angular_momentum"])),
@@ -136,12 +160,30 @@ class SummaryTracker:
             "total_contact_points": self.total_contacts,
             "peak_contact_points": self.peak_contacts,
             "max_speed": self.max_speed,
-            "escaped_bodies": int((self.dynamic & ~last.active).sum()),
+            "escaped_bodies": escaped,
             "bodies_at_rest": int(at_rest.sum()),
             "broken_joints": 0 if last.joints is None else int((~last.joints["active"]).sum()),
             "divergence": divergence,
         }
-        return {key: values[key] for key in DESCRIPTIONS}
+        return {key: values.get(key) for key in DESCRIPTIONS}
+
+
+def energy_conservation(scene: Scene) -> str:
+    """What can change the scene's total energy physically: CONSERVED when every material is elastic and
+    frictionless (restitution 1, friction 0) and nothing else does work, CONSERVED_WITHOUT_CONTACTS when
+    only contacts can, else NOT_CONSERVED."""
+    if any(getattr(scene, part, None) for part in ("joints", "emitters", "sinks")):
+        return NOT_CONSERVED
+    for body in scene.bodies:
+        if body.type == "kinematic" and (any(body.velocity) or body.angular_velocity):
+            return NOT_CONSERVED
+        if body.type == "dynamic" and (body.linear_damping or body.angular_damping):
+            return NOT_CONSERVED
+    materials = [scene.material_of(body) for body in scene.bodies] + [
+        scene.material(shape.material) for body in scene.bodies for shape in body.shapes or ()
+        if shape.material is not None]
+    elastic = all(m.restitution == 1.0 and m.friction == 0.0 for m in materials)
+    return CONSERVED if elastic else CONSERVED_WITHOUT_CONTACTS
 
 
 def sidecar_path(trajectory: Path) -> Path:
@@ -184,7 +226,9 @@ def summary_table(summary: dict[str, Any], title: str) -> Table:
     table = Table(title=title, show_header=False, title_justify="left")
     table.add_column("statistic", style="bold")
     table.add_column("value", overflow="fold")
-    for key, value in summary.items():
-        if value is not None:
+    from .scenario import measure_columns
+
+    for key, value in {**summary, **measure_columns(summary.get("measures") or {})}.items():
+        if value is not None and key != "measures":
             table.add_row(key, f"{value:.6g}" if isinstance(value, float) else str(value))
     return table

@@ -25,6 +25,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from .errors import UserError
+from .scenario import measure_columns
+from .sweep_sampling import SampledRow
 from .sweep_values import SweptKey
 
 if TYPE_CHECKING:
@@ -90,14 +92,20 @@ def plan_sweep(
     out_dir: Path | None = None,
     ticks: int | None = None,
     every: int | None = None,
+    samples: Sequence[SampledRow] = (),
 ) -> SweepPlan:
     """Build and validate every variant (fixed overrides first, then the swept ones).
 
-    Raises one UserError listing the problems of all invalid variants, before anything runs.
+    With `samples` (random values of sampled keys, `sweep_sampling`), every combination of the swept
+    values is run with each sample. Raises one UserError listing the problems of all invalid variants,
+    before anything runs.
     """
     from .simulation import load_source
 
     combinations = list(itertools.product(*(key.values for key in swept)))
+    if samples:
+        swept = [*swept, *(SweptKey(key, ()) for key in samples[0])]
+        combinations = [(*combination, *row.values()) for combination in combinations for row in samples]
     width = len(str(len(combinations) - 1))
     problems: dict[str, list[str]] = {}
     variants: list[Variant] = []
@@ -118,7 +126,7 @@ def plan_sweep(
         folder = out_dir if out_dir is not None else Path("outputs") / f"{scene_name}-sweep"
         output = folder / f"{scene_name}-{index:0{width}d}-{_slug(label)}.h5"
         task = VariantTask(index, scene.resolve(), overrides, output.resolve(), ticks, every)
-        expected = ticks if ticks is not None else loaded.scene.world.ticks
+        expected = ticks if ticks is not None else loaded.scene.world.run_ticks
         variants.append(Variant(parameters, label, task, loaded.sha256, expected))
     if problems:
         raise UserError(_name_variants(problems, len(combinations)))
@@ -167,9 +175,9 @@ def finished_outcome(variant: Variant) -> VariantOutcome | None:
     except (UserError, OSError, KeyError):  # unreadable or half-written: run it again
         return None
     if (
-        stored.get("status") != "complete"
+        stored.get("status") not in ("complete", "stopped")
         or stored.get("scene_sha256") != variant.sha256
-        or stored.get("ticks_completed") != variant.expected_ticks
+        or (stored.get("status") == "complete" and stored.get("ticks_completed") != variant.expected_ticks)
         or (variant.task.every is not None and stored.get("every") != variant.task.every)
     ):
         return None
@@ -179,7 +187,7 @@ def finished_outcome(variant: Variant) -> VariantOutcome | None:
             summary = json.loads(sidecar.read_text(encoding="utf-8"))
         except (OSError, ValueError):
             pass
-    return VariantOutcome(variant.task.index, "complete", summary, skipped=True)
+    return VariantOutcome(variant.task.index, stored["status"], summary, skipped=True)
 
 
 def run_variant(task: VariantTask) -> VariantOutcome:
@@ -366,7 +374,9 @@ class SweepResult:
             row["output"] = str(variant.task.output)
             row["skipped"] = bool(outcome and outcome.skipped)
             row["error"] = outcome.error if outcome else None
-            for key, value in (outcome.summary if outcome else {}).items():
+            summary = dict(outcome.summary) if outcome else {}
+            summary.update(measure_columns(summary.pop("measures", None) or {}))
+            for key, value in summary.items():
                 row.setdefault(key, value)
             rows.append(row)
         return rows

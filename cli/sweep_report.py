@@ -49,14 +49,15 @@ def print_sweep_table(result: SweepResult) -> None:
 
     rows = result.rows()
     keys = [swept.key for swept in result.plan.swept]
+    measures = list(dict.fromkeys(key for row in rows for key in row if key.startswith("measure.")))
     table = Table(title=f"sweep of {result.plan.scene_name}: {len(rows)} variants", title_justify="left")
-    for column in ("#", *keys, "status", *TABLE_STATISTICS.values()):
+    for column in ("#", *keys, "status", *TABLE_STATISTICS.values(), *measures):
         table.add_column(column, justify="left" if column == "status" else "right")
     for row in rows:
         status = row["status"] + (" (done before)" if row["skipped"] else "")
         style = "red" if row["status"] in ("failed", "diverged") else None
         cells = [_cell(row.get(column)) for column in ("index", *keys)]
-        statistics = [_cell(row.get(column)) for column in TABLE_STATISTICS]
+        statistics = [_cell(row.get(column)) for column in (*TABLE_STATISTICS, *measures)]
         table.add_row(*cells, status, *statistics, style=style)
     console = Console(highlight=False)
     console.print(table)

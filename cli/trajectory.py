@@ -333,8 +333,7 @@ class TrajectoryWriter:
             bodies.create_dataset(key, data=np.array([str(v) for v in values], dtype=object), dtype=text)
         bodies.create_dataset("mass", data=np.asarray(world.masses, "f8")).attrs["unit"] = "kg"
         bodies.create_dataset("inertia", data=np.asarray(world.inertias, "f8")).attrs["unit"] = "kg m2"
-        # every body of a scene is there from the start (emitted bodies will have later ticks)
-        bodies.create_dataset("spawn_tick", data=np.zeros(world.body_count, "i8"))
+        bodies.create_dataset("spawn_tick", data=np.asarray(world.spawn_ticks, "i8"))
         center = np.asarray(world.local_centers, "f8").reshape(world.body_count, 2)
         bodies.create_dataset("local_center", data=center).attrs["unit"] = "m"
         bodies.create_dataset("collision_group", data=np.asarray(collision_groups, "i4"))

@@ -21,3 +21,5 @@ MAX_PUSH_SPEED = 3.0  # m/s: the fastest speed at which overlap is pushed apart 
 CHAIN_ANGLE_TOLERANCE = 0.01
 BOUNCE_PASSES = 512  # passes of the impact sequence at most (a cradle of n balls hit from its end: n - 1)
 BOUNCE_SPEED_TOLERANCE = 1e-6  # m/s: slower approaches are no impact
+AT_REST_SPEED = 1e-3  # m/s: a dynamic body slower than this (and AT_REST_ANGULAR_SPEED) is at rest
+AT_REST_ANGULAR_SPEED = 1e-3  # rad/s

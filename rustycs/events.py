@@ -47,3 +47,43 @@ def record_event(events, tick, kind, a, b, px, py, speed):
     events.point[k, 1] = py
     events.speed[k] = speed
     events.count[0] = k + 1
+
+
+@njit(cache=True)
+def grown_events(events, capacity):
+    """A buffer of at least `capacity` rows holding the events recorded so far."""
+    n = events.count[0]
+    bigger = new_events(max(capacity, 2 * events.tick.shape[0]))
+    bigger.tick[:n] = events.tick[:n]
+    bigger.kind[:n] = events.kind[:n]
+    bigger.a[:n] = events.a[:n]
+    bigger.b[:n] = events.b[:n]
+    bigger.point[:n] = events.point[:n]
+    bigger.speed[:n] = events.speed[:n]
+    bigger.count[0] = n
+    return bigger
+
+
+@njit(cache=True, inline="always")
+def _listed(members, first, last, body):
+    for k in range(first, last):
+        if members[k] == body:
+            return True
+    return False
+
+
+@njit(cache=True, inline="always")
+def involves(events, e, kind, members, a0, a1, others, b0, b1):
+    """Whether event e is of `kind` and concerns the bodies members[a0:a1] (any of them, on either side
+    of a two-body event), and when others[b0:b1] is not empty, one body of each list; with no bodies
+    listed, any event of the kind."""
+    if events.kind[e] != kind:
+        return False
+    if a1 == a0:
+        return True
+    a = events.a[e]
+    b = events.b[e]
+    if b1 == b0:
+        return _listed(members, a0, a1, a) or (b >= 0 and _listed(members, a0, a1, b))
+    return ((_listed(members, a0, a1, a) and _listed(others, b0, b1, b))
+            or (_listed(members, a0, a1, b) and _listed(others, b0, b1, a)))

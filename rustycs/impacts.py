@@ -96,7 +96,9 @@ def keep_velocities(body, before):
 def bounce_targets(batches, n_chunks, lanes, before, threshold):
     """The normal speed each point stopped by the soft step should leave the tick at, from the velocity
     rows `before` it (which this overwrites): the sequence of collisions. A point takes part when the
-    solver pushed at it and it closes; the others get NO_BOUNCE."""
+    solver pushed at it and it closes faster than `threshold`; the others get NO_BOUNCE. (Taking the
+    slower ones in too made every tick of a resting pile of bouncy balls solve the pile to 1e-6 m/s:
+    8 ms of a 9 ms tick in the shower scene.)"""
     fill, slot_a, slot_b = batches.fill, batches.slot_a, batches.slot_b
     for c in range(n_chunks):
         for j in range(fill[c]):
@@ -119,10 +121,10 @@ def bounce_targets(batches, n_chunks, lanes, before, threshold):
                     if lanes[q + P_MAX_NORMAL_IMPULSE] == 0.0:
                         continue  # the solver did not push here (a missing second point neither)
                     vn = _speed(before, a, b, nx, ny, lanes[q + P_RNA], lanes[q + P_RNB])
-                    if vn >= -BOUNCE_SPEED_TOLERANCE:
-                        continue
+                    if vn >= -max(threshold, BOUNCE_SPEED_TOLERANCE):
+                        continue  # too slow to bounce: the soft step's stop stands
                     lanes[q + P_BOUNCE] = 0.0  # takes part; its target is set at the end
-                    target = -e * vn if -vn > threshold else 0.0
+                    target = -e * vn
                     if k == 0:
                         b1, closing1 = vn - target, True
                     else:

@@ -14,6 +14,7 @@ from numba import njit
 
 from rustycs.body_types import DYNAMIC, STATIC
 from rustycs.contact_solver import COS, DX, DY, SIN, VX, VY, W
+from rustycs.events import ESCAPE, record_event
 from rustycs.forces import attraction
 from rustycs.tick_kernel import tick_kernel
 
@@ -90,17 +91,25 @@ def first_non_finite(bodies):
 
 
 @njit(cache=True, inline="always")
-def apply_bounds(bodies, bounds):
-    """Deactivate dynamic bodies whose centre left the bounds; return how many left this tick."""
-    x, v, w, body_type, active = bodies.x, bodies.v, bodies.w, bodies.body_type, bodies.active
+def deactivate(bodies, i):
+    """Take body i out of the world: frozen, no longer collides (it left the bounds or was removed)."""
+    bodies.active[i] = False
+    bodies.v[i, 0] = 0.0
+    bodies.v[i, 1] = 0.0
+    bodies.w[i] = 0.0
+
+
+@njit(cache=True, inline="always")
+def apply_bounds(bodies, bounds, tick, events):
+    """Deactivate dynamic bodies whose centre left the bounds (an `escape` event each); return how many
+    left this tick."""
+    x, body_type, active = bodies.x, bodies.body_type, bodies.active
     left = 0
     for i in range(x.shape[0]):
         if body_type[i] != DYNAMIC or not active[i]:
             continue
         if x[i, 0] < bounds[0] or x[i, 1] < bounds[1] or x[i, 0] > bounds[2] or x[i, 1] > bounds[3]:
-            active[i] = False
-            v[i, 0] = 0.0
-            v[i, 1] = 0.0
-            w[i] = 0.0
+            deactivate(bodies, i)
+            record_event(events, tick, ESCAPE, i, -1, x[i, 0], x[i, 1], 0.0)
             left += 1
     return left

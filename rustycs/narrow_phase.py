@@ -130,6 +130,24 @@ def _swept_back(m, t, px, py):
 
 
 @tick_kernel
+def _swept_collision(bodies, shapes, sa, sb, dt, within, count, sweep, out):
+    """Sweep a pair not yet touching, with `count` points now, through the tick: (time of impact, points
+    in `out`). Passing by while closing, no points; moving apart, the points they have now (a blow from
+    elsewhere may yet drive them together). A call of its own, not inlined: a second copy of the
+    collision routines and the sweep inside the narrow phase's loop slowed every pair, swept or not."""
+    a, b = shapes.body[sa], shapes.body[sb]
+    impact = time_of_impact(shapes, sa, sb, motion_now(bodies, a), motion_now(bodies, b), dt, LINEAR_SLOP,
+                            sweep)
+    if impact < 0.0:
+        v = bodies.v
+        closing = (v[b, 0] - v[a, 0]) * out.normal[0] + (v[b, 1] - v[a, 1]) * out.normal[1] < 0.0
+        return 0.0, 0 if closing else count
+    if impact == 0.0:
+        return 0.0, count
+    return impact, _collide(sweep, sweep.geometry, 0, 1, within, out)
+
+
+@tick_kernel
 def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, contacts):
     """Manifolds of the first n_pairs candidate pairs (keys (a << SHAPE_BITS) | b), written into
     `contacts` (for at least as many pairs). Returns (manifold count, point count).
@@ -160,20 +178,17 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, conta
         if count == 0:
             continue
         impact = 0.0
-        motion_a, motion_b = motion_now(bodies, a), motion_now(bodies, b)
-        if min(out.separations[0], out.separations[count - 1]) > LINEAR_SLOP:
+        gap = min(out.separations[0], out.separations[count - 1])
+        if gap > LINEAR_SLOP:
             vx, vy = v[b, 0] - v[a, 0], v[b, 1] - v[a, 1]
             travel = dt * (math.sqrt(vx * vx + vy * vy) + abs(w[a]) * extent[a] + abs(w[b]) * extent[b])
-            if travel > margin:
-                impact = time_of_impact(shapes, sa, sb, motion_a, motion_b, dt, LINEAR_SLOP, sweep)
-                if impact < 0.0 and vx * out.normal[0] + vy * out.normal[1] < 0.0:
-                    continue  # they pass each other: closing now, never touching
-                # moving apart, they keep their points (a blow from elsewhere may yet drive them together)
-                impact = max(impact, 0.0)
-                if impact > 0.0:
-                    count = _collide(sweep, sweep.geometry, 0, 1, reach[a] + reach[b] - margin, out)
-                    if count == 0:
-                        continue
+            # a pair that cannot close its gap in the tick keeps its points: they stay apart along the
+            # normal, so the solver never pushes them (a third of the pairs swept in S5)
+            if travel > margin and travel > gap:
+                impact, count = _swept_collision(bodies, shapes, sa, sb, dt, reach[a] + reach[b] - margin,
+                                                 count, sweep, out)
+                if count == 0:
+                    continue
         paired[k] = True
         swap = count == 2 and out.ids[0] > out.ids[1]
         nx, ny = out.normal[0], out.normal[1]
@@ -200,8 +215,8 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, conta
             if impact > 0.0:  # the anchors where they meet, carried back to where the bodies are now: their
                 # points on the cores turn with the bodies, the radii stay along the normal
                 ra, rb = radius[sa], radius[sb]
-                ax, ay = _swept_back(motion_a, impact, ax - ra * nx, ay - ra * ny)
-                bx, by = _swept_back(motion_b, impact, bx + rb * nx, by + rb * ny)
+                ax, ay = _swept_back(motion_now(bodies, a), impact, ax - ra * nx, ay - ra * ny)
+                bx, by = _swept_back(motion_now(bodies, b), impact, bx + rb * nx, by + rb * ny)
                 ax, ay, bx, by = ax + ra * nx, ay + ra * ny, bx - rb * nx, by - rb * ny
                 px, py = 0.5 * (ax + bx), 0.5 * (ay + by)
                 separation = (bx - ax) * nx + (by - ay) * ny

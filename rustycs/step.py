@@ -25,6 +25,7 @@ from rustycs.constants import (
 )
 from rustycs.contact_batches import Batches, new_batches, schedule
 from rustycs.contact_cache import ContactCache, new_cache, remember, warm_start_points
+from rustycs.contact_events import Touching, contact_events, grown_touching, new_touching
 from rustycs.contact_solver import (
     BODY_COLUMNS,
     LANE_FIELDS,
@@ -38,7 +39,7 @@ from rustycs.contact_solver import (
     warm_start,
 )
 from rustycs.continuous import SCRATCH_COLUMNS, hold_back_passes
-from rustycs.events import JOINT_BREAK, Events, new_events, record_event
+from rustycs.events import JOINT_BREAK, Events, grown_events, new_events, record_event
 from rustycs.geometry import Geometry, new_geometry, update_geometry
 from rustycs.impacts import keep_velocities, resolve_impacts
 from rustycs.joint_solver import (
@@ -61,6 +62,7 @@ from rustycs.motion import (
 )
 from rustycs.narrow_phase import Contacts, narrow_phase, new_contacts
 from rustycs.recording import record_frame
+from rustycs.scenario import after_tick, events_bound
 from rustycs.tick_kernel import tick_kernel
 
 
@@ -72,6 +74,7 @@ class Settings(NamedTuple):
     restitution_threshold: float  # m/s: slower approaches do not bounce
     bounds: np.ndarray  # (4,) xmin, ymin, xmax, ymax: dynamic bodies leaving them are deactivated
     has_bounds: bool
+    contact_events: bool  # record contact_begin and contact_end
 
 
 class Workspace(NamedTuple):
@@ -91,6 +94,7 @@ class Workspace(NamedTuple):
     broken: np.ndarray  # (J,) int64 scratch: the joints that broke in a tick
     events: Events
     statics_placed: np.ndarray  # bool (1,): the static bodies' geometry is up to date
+    touching: Touching  # the shape pairs touching in the last tick (contact events)
 
 
 @njit(cache=True)
@@ -106,21 +110,27 @@ def new_workspace(n_bodies, n_shapes, n_joints, max_vertices, c_key, c_jn, c_jt)
                      np.ones((n_bodies, 2)), np.zeros((n_bodies, BODY_COLUMNS)),
                      np.ones((n_bodies, SCRATCH_COLUMNS)), np.zeros((n_joints, FRAME_COLUMNS)),
                      np.zeros(n_joints, np.int64), new_events(n_joints + n_bodies + 16), np.zeros(1,
-                                                                                                  np.bool_))
+                                                                                                  np.bool_),
+                     new_touching(capacity))
 
 
 @njit(cache=True)
-def grown(ws, n_bodies, cells, pairs, points, chunks):
+def grown(ws, n_bodies, cells, pairs, points, chunks, events):
     """The workspace with every buffer that holds fewer than these entries replaced by one twice as
-    large (the contents of a replaced buffer are not kept: each is refilled by its stage)."""
+    large (the contents of a replaced buffer are not kept: each is refilled by its stage; the events
+    so far and the pairs touching are)."""
     p = ws.pairs
     if cells > p.cells.shape[0] or pairs > p.keys.shape[0]:
         p = Pairs(np.empty(max(2 * pairs, p.keys.shape[0]), np.int64), p.count, p.fat_hitbox, p.fat_active,
                   p.grid, p.extents, np.empty(max(2 * cells, p.cells.shape[0]), np.int64))
-    contacts, batches = ws.contacts, ws.batches
+    contacts, batches, touching = ws.contacts, ws.batches, ws.touching
     if pairs > contacts.manifolds.first.shape[0]:
         contacts = new_contacts(2 * pairs)
         batches = new_batches(n_bodies, 2 * pairs)
+        touching = grown_touching(touching, 2 * pairs)
+    kept = ws.events
+    if events > kept.tick.shape[0]:
+        kept = grown_events(kept, 2 * events)
     cache = ws.cache
     if points > cache.key.shape[0]:  # keeps its entries: they warm-start the tick that needs more
         n = cache.count[0]
@@ -129,7 +139,7 @@ def grown(ws, n_bodies, cells, pairs, points, chunks):
     if chunks * LANES * LANE_FIELDS > lanes.shape[0]:
         lanes = np.empty(2 * chunks * LANES * LANE_FIELDS)
     return Workspace(ws.geometry, p, contacts, cache, ws.body, batches, lanes, ws.decay, ws.bounce_velocity,
-                     ws.held_back, ws.joint_frames, ws.broken, ws.events, ws.statics_placed)
+                     ws.held_back, ws.joint_frames, ws.broken, kept, ws.statics_placed, touching)
 
 
 @tick_kernel
@@ -153,19 +163,20 @@ def substeps(batches, n_chunks, lanes, body, bodies, joints, joint_frames, joint
 
 
 # entries of a block's status (`run_ticks`): ticks done, frames recorded, bodies that left the bounds,
-# the first body whose state became non-finite (-1: none), and what a buffer must hold to go on
-TICKS_DONE, FRAMES, ESCAPED, BAD_BODY, NEED_CELLS, NEED_PAIRS, NEED_CHUNKS = range(7)
-STATUS_FIELDS = 7
+# the first body whose state became non-finite (-1: none), what a buffer must hold to go on, and the
+# stop condition that ended the block (-1: none)
+TICKS_DONE, FRAMES, ESCAPED, BAD_BODY, NEED_CELLS, NEED_PAIRS, NEED_CHUNKS, NEED_EVENTS, STOPPED = range(9)
+STATUS_FIELDS = 9
 
 
 @tick_kernel
-def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, first_tick, every, frames,
-              status):
-    """Step until `n_ticks` ticks are done (counted in `status`), a state becomes non-finite, or a
-    buffer is too small: then the tick stops before it changed any state, with the sizes it needs in
-    `status`, to be grown and run again. Compiled without reference counting, like every stage it
-    calls: a tick passes the records to a dozen stages, and counting references to their arrays cost
-    a third of a five-body tick."""
+def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, scenario, first_tick,
+              every, frames, status):
+    """Step until `n_ticks` ticks are done (counted in `status`), a state becomes non-finite, a stop
+    condition of the scenario holds (its frame recorded), or a buffer is too small: then the tick stops
+    before it changed any state, with the sizes it needs in `status`, to be grown and run again.
+    Compiled without reference counting, like every stage it calls: a tick passes the records to a
+    dozen stages, and counting references to their arrays cost a third of a five-body tick."""
     dt = settings.dt
     h = dt / settings.substeps
     contact_hertz = min(CONTACT_HERTZ, 0.25 / h)
@@ -176,7 +187,7 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
     stiff = softness(min(2.0 * contact_hertz, 0.25 / h), CONTACT_DAMPING_RATIO, h)
     joint_soft = softness(JOINT_STIFFNESS / h, JOINT_DAMPING_RATIO, h)
     (geometry, pairs, contacts, cache, body, batches, lanes, decay, bounce_velocity, held_back, joint_frames,
-     broken, events, statics_placed) = ws
+     broken, events, statics_placed, touching) = ws
     damping_factors(bodies, dt, decay)
     while status[TICKS_DONE] < n_ticks:
         bad = first_non_finite(bodies)
@@ -200,6 +211,13 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
             return
         n_man, n_pts = narrow_phase(pairs.keys, n_pairs, bodies, shapes, geometry, SPECULATIVE_DISTANCE, dt,
                                     contacts)
+        room = events.count[0] + events_bound(scenario, bodies.x.shape[0], joints.kind.shape[0], n_man,
+                                              touching.count[0])
+        if room > events.tick.shape[0]:
+            status[NEED_EVENTS] = room
+            return
+        first_event = events.count[0]
+        tick = first_tick + status[TICKS_DONE] + 1
         warm_start_points(contacts.points, n_pts, cache)
         load_bodies(bodies, body)
         damp(body, bodies, decay)
@@ -217,11 +235,12 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
         store_impulses(batches, n_chunks, contacts.manifolds, lanes, contacts.points)
         if bouncy > 0:
             resolve_impacts(batches, n_chunks, lanes, body, bounce_velocity, settings.restitution_threshold)
+        if settings.contact_events:
+            contact_events(contacts.manifolds, n_man, contacts.points, bodies, tick, touching, events)
         store_bodies(body, bodies)
         hold_back_passes(pairs.keys, n_pairs, contacts.paired, bodies, shapes, geometry, body, dt,
                          SPECULATIVE_DISTANCE, contacts.sweep, held_back)
         remember(contacts.points, n_pts, cache)
-        tick = first_tick + status[TICKS_DONE] + 1
         for k in range(break_joints(bodies, body, joints, joint_frames, h, broken)):
             px, py = anchor_point(bodies, joints, broken[k])
             record_event(events, tick, JOINT_BREAK, broken[k], -1, px, py, 0.0)
@@ -231,37 +250,52 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
             status[BAD_BODY] = bad
             return
         if settings.has_bounds:
-            status[ESCAPED] += apply_bounds(bodies, settings.bounds)
+            status[ESCAPED] += apply_bounds(bodies, settings.bounds, tick, events)
+        status[STOPPED] = after_tick(scenario, bodies, shapes, forces, contacts.points, n_pts, events,
+                                     first_event, tick, dt)
         status[TICKS_DONE] += 1
         done = status[TICKS_DONE]
-        if every > 0 and (done % every == 0 or done == n_ticks):
+        stopped = status[STOPPED] >= 0
+        if every > 0 and (done % every == 0 or done == n_ticks or stopped):
             record_frame(frames, status[FRAMES], first_tick + done, bodies, joints, forces, contacts.points,
                          n_pts)
             status[FRAMES] += 1
+        if stopped:
+            return
 
 
 @njit(cache=True, nogil=True)
-def step_world(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, first_tick, every,
-               frames):
-    """Advance `n_ticks` ticks in place. Releases the GIL, so independent worlds step in parallel
-    threads.
+def step_world(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, scenario, first_tick,
+               every, frames, status):
+    """Advance until `n_ticks` ticks are done in place (`run_ticks`), or a buffer of `ws` must grow (then
+    `status` says how large: `grow` it, and call again with the same status to go on). Releases the GIL,
+    so independent worlds step in parallel threads. Returns nothing: boxing the workspace back into
+    Python on every call cost 80 unpicklings, most of a one-tick call.
 
     With `every` > 0, a frame (`recording.record_frame`) is written into `frames` after every
     `every`-th tick of the block and after its last; ticks are numbered from `first_tick`.
-    Returns (status, workspace): the block's status (see `run_ticks`; BAD_BODY is -1 or the first body
-    whose state became non-finite in the tick after TICKS_DONE, where the block stopped, its frames so
-    far recorded) and the workspace given, with any buffer that had to grow replaced.
+    `scenario` (`rustycs.scenario.Scenario`) makes bodies appear and vanish, senses, measures and may stop
+    the block early. In `status` (`new_status`) BAD_BODY is -1 or the first body whose state became
+    non-finite in the tick after TICKS_DONE, where the block stopped, its frames so far recorded; STOPPED
+    is -1 or the stop condition that held after tick TICKS_DONE, its frame recorded.
     """
+    status[NEED_CELLS] = 0
+    status[NEED_PAIRS] = 0
+    status[NEED_CHUNKS] = 0
+    status[NEED_EVENTS] = 0
+    run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, scenario, first_tick,
+              every, frames, status)
+
+
+def new_status() -> np.ndarray:
+    """A block's status before its first tick (`step_world`)."""
     status = np.zeros(STATUS_FIELDS, np.int64)
     status[BAD_BODY] = -1
-    ws.events.count[0] = 0  # the caller took the last call's events
-    while True:
-        status[NEED_CELLS] = 0
-        status[NEED_PAIRS] = 0
-        status[NEED_CHUNKS] = 0
-        run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, first_tick, every,
-                  frames, status)
-        if status[BAD_BODY] >= 0 or status[TICKS_DONE] == n_ticks:
-            return status, ws
-        ws = grown(ws, bodies.x.shape[0], status[NEED_CELLS], status[NEED_PAIRS], 2 * status[NEED_PAIRS],
-                   status[NEED_CHUNKS])
+    status[STOPPED] = -1
+    return status
+
+
+def grow(ws: Workspace, n_bodies: int, status: np.ndarray) -> Workspace:
+    """The workspace with the buffers a stopped block needs (`status`) grown."""
+    return grown(ws, n_bodies, status[NEED_CELLS], status[NEED_PAIRS], 2 * status[NEED_PAIRS],
+                 status[NEED_CHUNKS], status[NEED_EVENTS])

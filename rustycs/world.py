@@ -10,6 +10,7 @@ import numpy as np
 
 from rustycs import defaults
 from rustycs import joints as J
+from rustycs.body_control import Body, BodyControl
 from rustycs.body_types import BODY_TYPE_NAMES, DYNAMIC
 from rustycs.events import EVENT_KIND_NAMES
 from rustycs.forces import Forces
@@ -17,8 +18,10 @@ from rustycs.joints import JOINT_COLUMNS, JOINT_TYPE_NAMES, Joints, joint_filter
 from rustycs.kernel_cache import ensure_fresh
 from rustycs.materials import MATERIALS, Material
 from rustycs.pieces import MAX_VERTICES, body_mass, edge_normals, shape_pieces
+from rustycs.queries import WorldQueries
 from rustycs.shapes import Box, Capsule, Chain, Circle, Polygon, Segment, Shape, type_name
 from rustycs.state import BODY_COLUMNS, SHAPE_COLUMNS, Bodies, Shapes, Table
+from rustycs.world_scenario import WorldScenario
 
 _BODY_TYPES = {name: code for code, name in enumerate(BODY_TYPE_NAMES)}
 
@@ -42,13 +45,15 @@ def _material(material: Material | str) -> Material:
 
 
 class KernelInputs(NamedTuple):
-    """What the kernels read of a world: its records (bodies, shapes, joints and their filter, forces)."""
+    """What the kernels read of a world: its records (bodies, shapes, joints and their filter, forces,
+    and the scenario: `rustycs.scenario.Scenario`)."""
 
     bodies: Bodies
     shapes: Shapes
     joints: Joints
     joint_filter: J.JointFilter
     forces: Forces
+    scenario: tuple
 
 
 def _point(value) -> np.ndarray:
@@ -58,11 +63,12 @@ def _point(value) -> np.ndarray:
     return point
 
 
-class World:
+class World(BodyControl, WorldQueries, WorldScenario):
     """A 2D world of rigid bodies made of shapes, and joints between them.
 
     Each tick is dt = 1/tick_rate long and runs `precision` solver substeps. Attractors pull with
-    the acceleration G*M/max(d, min_distance)^2; forces are constant accelerations.
+    the acceleration G*M/max(d, min_distance)^2; forces are constant accelerations. Bodies may appear
+    and go during a run, and measures and stop conditions watch it (`WorldScenario`).
     """
 
     def __init__(self, tick_rate: float = defaults.TICK_RATE, precision: int = defaults.PRECISION,
@@ -87,11 +93,15 @@ class World:
         self._shapes = Table(Shapes, SHAPE_COLUMNS)  # convex pieces, as the kernels collide them
         self._joints = Table(Joints, JOINT_COLUMNS)
         self._shape_list: list[tuple[int, Shape]] = []  # (body, shape) as given
+        self._piece_shapes: list[int] = []  # per convex piece, its shape's index in _shape_list
+        self._names: list[str] = []  # per body, unique
+        self._name_rows: dict[str, int] = {}
         self._inputs: tuple | None = None  # the kernels' inputs, rebuilt when bodies or forces change
         # the step's buffers, kept from block to block (rebuilt when bodies are added)
         self._workspace = None
         self._contact_rows = None  # the last tick's contact points, built from the workspace when asked
         self._no_frames: dict[str, np.ndarray] | None = None  # the step's buffer when nothing is recorded
+        self._init_scenario()
 
     @property
     def body_count(self) -> int:
@@ -127,15 +137,21 @@ class World:
                  linear_damping: float = defaults.LINEAR_DAMPING,
                  angular_damping: float = defaults.ANGULAR_DAMPING,
                  gravity_scale: float = defaults.GRAVITY_SCALE, fixed_rotation: bool = False,
-                 bullet: bool = False) -> int:
-        """Add a body made of one shape or several and return its index. `position` is the body origin
-        (the shapes' offsets and a polygon's vertices are relative to it); the body rotates about its
-        centre of mass. A dynamic body needs a shape with area; `mass` scales the shapes' masses
-        (area x density) to the given total."""
+                 bullet: bool = False, name: str | None = None, spawn_tick: int = 0,
+                 remove_tick: int | None = None) -> int:
+        """Add a body made of one shape or several and return its index; `name` (unique, default
+        `<shape type>-<index>`, "compound-<index>" for several shapes) names it in `body_names`.
+        `position` is the body origin (the shapes' offsets and a polygon's vertices are relative to it);
+        the body rotates about its centre of mass. A dynamic body needs a shape with area; `mass` scales
+        the shapes' masses (area x density) to the given total. A body with `spawn_tick` > 0 is inactive
+        until the end of that tick (an emitted body: its row is reserved now); with `remove_tick`, it is
+        removed at the end of that tick."""
         one = isinstance(shapes, (Circle, Box, Polygon, Capsule, Segment, Chain))
         shapes = [shapes] if one else list(shapes)
         if not shapes:
             raise ValueError("a body needs at least one shape")
+        body_name = self._new_name(name, type_name(shapes[0]) if len(shapes) == 1 else "compound",
+                                   self._bodies.rows)
         if body_type not in _BODY_TYPES:
             raise ValueError(f"unknown body type {body_type!r}")
         code = _BODY_TYPES[body_type]
@@ -153,14 +169,16 @@ class World:
             raise ValueError("an aabb cannot be rotated; use an obb")
         body_material = _material(material)
         materials = [body_material if s.material is None else _material(s.material) for s in shapes]
-        placed = [(shape, m, piece) for shape, m in zip(shapes, materials, strict=True)
-                  for piece in shape_pieces(shape)]
+        pieces_of = [shape_pieces(shape) for shape in shapes]
+        placed = [(shape, m, piece) for shape, m, pieces in zip(shapes, materials, pieces_of, strict=True)
+                  for piece in pieces]
         pieces = [piece for _, _, piece in placed]
         props = body_mass(pieces, [m.density for _, m, _ in placed], [s.has_area for s, _, _ in placed],
                           mass if moves else None)
         rotates = moves and not fixed_rotation
         c, s = math.cos(angle), math.sin(angle)
         center = np.asarray(position, dtype=np.float64) + np.array([[c, -s], [s, c]]) @ props.center
+        present = self._timing(spawn_tick, remove_tick)
         index = self._bodies.rows
         first_shape = self._shapes.rows
         extent = 0.0
@@ -183,11 +201,13 @@ class World:
             x=center, angle=angle, v=velocity, w=0.0 if fixed_rotation else angular_velocity,
             mass=props.mass if moves else np.inf, inertia=props.inertia if rotates else np.inf,
             inv_mass=1.0 / props.mass if moves else 0.0, inv_inertia=1.0 / props.inertia if rotates else 0.0,
-            body_type=code, active=True, origin=-props.center, linear_damping=linear_damping,
+            body_type=code, active=present, origin=-props.center, linear_damping=linear_damping,
             angular_damping=angular_damping, gravity_scale=gravity_scale, fixed_rotation=fixed_rotation,
             bullet=bullet, extent=extent, first_shape=first_shape,
             shape_count=self._shapes.rows - first_shape)
+        self._piece_shapes += [self.shape_count + k for k, pieces in enumerate(pieces_of) for _ in pieces]
         self._shape_list += [(index, shape) for shape in shapes]
+        self._name_body(body_name, index)
         self._changed()
         return index
 
@@ -421,24 +441,37 @@ class World:
                 attractor_range=np.array([t["range"] for t in att], dtype=np.float64),
                 attractor_min_distance=np.array([t["min_distance"] for t in att], dtype=np.float64))
             joints = self._joints.view()
-            self._inputs = KernelInputs(self._bodies.view(), self._shapes.view(), joints,
-                                        joint_filter(self.body_count, joints), forces)
+            bodies, shapes = self._bodies.view(), self._shapes.view()
+            self._inputs = KernelInputs(bodies, shapes, joints, joint_filter(self.body_count, joints), forces,
+                                        self._scenario(bodies, shapes))
         return self._inputs
 
     def _settings(self):
         from rustycs.step import Settings
 
         bounds = np.zeros(4) if self.bounds is None else np.array([*self.bounds[0], *self.bounds[1]])
-        return Settings(self.dt, self.precision, self.restitution_threshold, bounds, self.bounds is not None)
+        return Settings(self.dt, self.precision, self.restitution_threshold, bounds, self.bounds is not None,
+                        self._records_contacts())
 
     def step(self, n: int = 1, record: dict[str, np.ndarray] | None = None, every: int = 1) -> int:
         """Advance n ticks in compiled code. Raises SimulationDiverged on a non-finite state.
 
         With `record` (a `frame_buffer`), the state after every `every`-th tick and after the last is
         written into its rows from 0 on, with no Python per tick; returns the number of frames
-        written. The buffer must hold them all: ceil(n / every) rows.
+        written. The buffer must hold them all: ceil(n / every) rows. A stop condition that holds ends
+        the call early, after the tick where it held (its frame recorded): `stop_condition` names it.
         """
-        from rustycs.step import BAD_BODY, ESCAPED, FRAMES, TICKS_DONE, new_workspace, step_world
+        from rustycs.step import (
+            BAD_BODY,
+            ESCAPED,
+            FRAMES,
+            STOPPED,
+            TICKS_DONE,
+            grow,
+            new_status,
+            new_workspace,
+            step_world,
+        )
 
         if n <= 0:
             return 0
@@ -453,10 +486,17 @@ class World:
             last = self._last_contacts()
             self._workspace = new_workspace(self.body_count, self._shapes.rows, self._joints.rows,
                                             MAX_VERTICES, last.key, last.normal_impulse, last.tangent_impulse)
-        status, self._workspace = step_world(n, inputs.bodies, inputs.shapes, inputs.joints,
-                                             inputs.joint_filter, inputs.forces, self._settings(),
-                                             self._workspace, self.tick, every, tuple(record.values()))
+        self._fold_initial(inputs)
+        status, frames, settings = new_status(), tuple(record.values()), self._settings()
+        self._workspace.events.count[0] = 0  # the last call's events were taken
+        while True:
+            step_world(n, inputs.bodies, inputs.shapes, inputs.joints, inputs.joint_filter, inputs.forces,
+                       settings, self._workspace, inputs.scenario, self.tick, every, frames, status)
+            if status[BAD_BODY] >= 0 or status[STOPPED] >= 0 or status[TICKS_DONE] == n:
+                break
+            self._workspace = grow(self._workspace, self.body_count, status)
         self._contact_rows = None
+        self.stop_condition = int(status[STOPPED]) if status[STOPPED] >= 0 else None
         self.escaped_count += int(status[ESCAPED])
         done, recorded, bad = int(status[TICKS_DONE]), int(status[FRAMES]), int(status[BAD_BODY])
         if bad >= 0:
@@ -477,14 +517,17 @@ class World:
         from rustycs.recording import record_frame
 
         inputs = self._kernel_inputs()
+        points, n_points = self._contact_points()
+        record_frame(tuple(frames.values()), row, self.tick, inputs.bodies, inputs.joints, inputs.forces,
+                     points, n_points)
+
+    def _contact_points(self):
+        """The last tick's contact points (the step's record) and how many are in use."""
         if self._workspace is None:
             from rustycs.narrow_phase import new_contacts
 
-            points, n_points = new_contacts(0).points, 0
-        else:
-            points, n_points = self._workspace.contacts.points, int(self._workspace.contacts.count[1])
-        record_frame(tuple(frames.values()), row, self.tick, inputs.bodies, inputs.joints, inputs.forces,
-                     points, n_points)
+            return new_contacts(0).points, 0
+        return self._workspace.contacts.points, int(self._workspace.contacts.count[1])
 
     # ------------------------------------------------------------------ state
     def _get(self, name: str) -> np.ndarray:
@@ -553,8 +596,9 @@ class World:
         """(body, shape) of every shape, as given to `add_body`."""
         return list(self._shape_list)
 
-    def set_velocity(self, body: int, velocity, angular_velocity: float | None = None) -> None:
+    def set_velocity(self, body: Body, velocity, angular_velocity: float | None = None) -> None:
         """Set a body's velocity (e.g. to drive a kinematic body); a body of fixed rotation keeps w = 0."""
+        body = self._row(body)
         self._bodies.columns["v"][body] = velocity
         if angular_velocity is not None and not self._bodies.columns["fixed_rotation"][body]:
             self._bodies.columns["w"][body] = angular_velocity

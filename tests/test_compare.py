@@ -37,7 +37,8 @@ def runs(tmp_path_factory: pytest.TempPathFactory, compiled_engine: None) -> dic
     scene.write_text(TINY)
     variants = {
         "reference": [], "again": [], "renamed": ["bodies.crate.name=box"],
-        "fine_dt": ["world.tick_rate=120"], "short": ["world.ticks=30"],
+        "fine_dt": ["world.tick_rate=120"], "short": ["world.ticks=30"], "every_2": ["output.every=2"],
+        "every_7": ["output.every=7"],
     }
     paths = {}
     for name, overrides in variants.items():
@@ -118,8 +119,20 @@ def test_not_comparable(runs):
         compare_trajectories(runs["renamed"], reference)
     with pytest.raises(NotComparable, match="different time steps"):
         compare_trajectories(runs["fine_dt"], reference)
-    with pytest.raises(NotComparable, match="different frames .A has 31 frames"):
+    with pytest.raises(NotComparable, match="different lengths .A ends at tick 30, B at tick 60"):
         compare_trajectories(runs["short"], reference)
+
+
+def test_runs_recorded_at_different_every_are_compared_on_the_ticks_they_share(runs, cli):
+    result = compare_trajectories(runs["every_2"], runs["reference"])
+    assert (result.frames, result.frames_a, result.frames_b) == (31, 31, 61)
+    assert result.identical  # the same run, sampled: every shared frame is bitwise equal
+    # ticks 0, 7, ..., 56 and the last (60) against 0, 2, ..., 60: shared 0, 14, 28, 42, 56, 60
+    result = compare_trajectories(runs["every_7"], runs["every_2"])
+    assert (result.frames, result.frames_a, result.frames_b) == (6, 10, 31) and result.identical
+    shown = cli("compare", runs["every_2"], runs["reference"])
+    assert shown.exit_code == 0
+    assert "compared the 31 frames at ticks both recorded (A has 31, B 61)" in shown.stdout
 
 
 def test_missing_file(tmp_path: Path, runs):

@@ -44,8 +44,33 @@ def test_plot_overlays_several_runs(cli, run_scene, tmp_path: Path):
 
 
 def test_labels_are_stems_unless_ambiguous():
-    assert labels_for([Path("a/x.h5"), Path("b/y.h5")]) == ["x", "y"]
-    assert labels_for([Path("a/x.h5"), Path("b/x.h5")]) == ["a/x.h5", "b/x.h5"]
+    assert labels_for([Path("a/x.h5"), Path("b/y.h5")], [[], []]) == (["x", "y"], "runs")
+    assert labels_for([Path("a/x.h5"), Path("b/x.h5")], [[], []]) == (["a/x.h5", "b/x.h5"], "runs")
+
+
+def test_sweep_runs_are_labelled_by_the_values_they_differ_in():
+    fixed = "world.precision=4"
+    overrides = [[fixed, "materials.rubber.restitution=0.1", "bodies.ball.position=[0,1]"],
+                 [fixed, "materials.rubber.restitution=0.9", "bodies.ball.position=[0,1]"]]
+    paths = [Path(f"out/long-scene-name-{i}-materials.rubber.restitution=0.1.h5") for i in range(2)]
+    assert labels_for(paths, overrides) == (["restitution=0.1", "restitution=0.9"],
+                                            "runs: materials.rubber.restitution")
+    clash = [["a.x=1", "b.x=2"], ["a.x=3", "b.x=2"], ["a.x=3", "b.x=4"]]
+    assert labels_for(paths + paths[:1], clash)[0] == ["a.x=1, b.x=2", "a.x=3, b.x=2", "a.x=3, b.x=4"]
+
+
+def test_a_legend_of_many_long_labels_fits_in_the_figure():
+    from rustycs_cli.render.plot import OBSERVABLES, Series, _figure
+
+    time = np.linspace(0, 1, 5)
+    runs = [Series(f"restitution={k / 10:.1f}, friction={k / 20:.2f}, generators.rain.count={100 * k}",
+                   {name: time for name in OBSERVABLES},
+                   {name: np.zeros((5, 2)) if name == "linear_momentum" else time for name in OBSERVABLES})
+            for k in range(12)]
+    figure = _figure(runs, "many runs", "runs")
+    figure.canvas.draw()
+    legend = figure.legends[0].get_window_extent()
+    assert legend.x0 >= 0 and legend.y0 >= 0 and legend.x1 <= figure.bbox.x1 and legend.y1 <= figure.bbox.y1
 
 
 @pytest.mark.parametrize("kind", ["missing", "foreign", "text"])

@@ -85,6 +85,29 @@ def test_png_colours_at_projected_positions(cli, trajectory: Path, tmp_path: Pat
     assert MATERIAL_COLORS["stone"] in column
 
 
+FALL_OFF = """\
+name: fall-off
+world: {tick_rate: 60, ticks: 240, precision: 2%s}
+forces:
+  - {name: gravity, acceleration: [0, -9.81]}
+bodies:
+  - {name: floor, type: static, shape: {type: aabb, width: 6, height: 0.5}, position: [0, -0.25]}
+  - {name: stays, shape: {type: circle, radius: 0.3}, position: [-1, 0.3]}
+  - {name: falls, shape: {type: circle, radius: 0.3}, position: [4, 1]}
+"""
+
+
+@pytest.mark.parametrize("bounds", ["", ", bounds: {min: [-30, -30], max: [30, 30]}"])
+def test_the_default_view_fits_the_bodies_still_in_the_world(cli, run_scene, tmp_path: Path, bounds: str):
+    # `falls` misses the floor and falls 78 m in 4 s: out of the bounds, or far below the scene as placed
+    out = tmp_path / "view.png"
+    result = cli("render", run_scene(FALL_OFF % bounds), "-o", out, "--size", "800x600")
+    assert result.exit_code == 0, result.stderr
+    xmin, ymin, xmax, ymax = (float(v) for v in result.stdout.split("view ")[1].split(",")[:4])
+    assert xmin < -3 and xmax > 4.3 and ymin < -0.5 and ymax > 1.3  # the floor and both starts
+    assert xmax - xmin < 12  # not stretched down to where `falls` ended
+
+
 def test_png_default_is_last_tick_in_the_fitted_view(cli, trajectory: Path, tmp_path: Path):
     out = tmp_path / "last.png"
     result = cli("render", trajectory, "-o", out, "--size", "640x480")

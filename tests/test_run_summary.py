@@ -8,7 +8,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rustycs_cli.summary import DESCRIPTIONS, SummaryTracker, sidecar_path, to_json, write_text_atomic
+from rustycs_cli.summary import (
+    CONSERVED,
+    CONSERVED_WITHOUT_CONTACTS,
+    DESCRIPTIONS,
+    NOT_CONSERVED,
+    SummaryTracker,
+    energy_conservation,
+    sidecar_path,
+    to_json,
+    write_text_atomic,
+)
 from rustycs_cli.trajectory import Frame
 
 TYPES = ["static", "dynamic", "dynamic", "dynamic", "kinematic"]
@@ -31,8 +41,8 @@ def frame(tick: int, velocity, angular_velocity, active, kinetic: float, potenti
     )
 
 
-def summarise(frames: list[Frame], step_seconds: float = 0.5) -> dict:
-    tracker = SummaryTracker(TYPES)
+def summarise(frames: list[Frame], step_seconds: float = 0.5, conservation: str = NOT_CONSERVED) -> dict:
+    tracker = SummaryTracker(TYPES, conservation)
     for item in frames:
         tracker.add(item)
     return tracker.summary(scene="s", scene_sha256="ab", status="complete", seed=7, dt=0.01,
@@ -53,8 +63,9 @@ def test_statistics():
     assert summary["ticks_per_second"] == pytest.approx(40.0)
     assert summary["initial_kinetic_energy"] == 10.0 and summary["final_kinetic_energy"] == 1.0
     assert summary["initial_potential_energy"] == 5.0 and summary["final_potential_energy"] == 11.5
-    assert summary["energy_drift"] == pytest.approx(-2.5)
-    assert summary["relative_energy_drift"] == pytest.approx(-2.5 / 15)
+    assert summary["energy_change"] == pytest.approx(-2.5)
+    assert summary["relative_energy_change"] == pytest.approx(-2.5 / 15)
+    assert summary["energy_drift"] is None and summary["relative_energy_drift"] is None
     assert summary["linear_momentum_drift"] == pytest.approx(5.0)
     assert summary["angular_momentum_drift"] == pytest.approx(3.0)
     assert summary["max_penetration"] == 0.02
@@ -64,6 +75,39 @@ def test_statistics():
     assert summary["bodies_at_rest"] == 1  # body 1 (speed 5e-4); body 2 turns, body 3 escaped
     assert list(summary) == list(DESCRIPTIONS)
     assert summary["divergence"] is None and summary["seed"] == 7
+
+
+def _orbit(contacts: int) -> list[Frame]:
+    """Two frames of a run whose total energy went from 15 J to 14.99 J, with or without contacts."""
+    moving = [[0, 0], [1, 0], [1, 0], [1, 0], [0, 0]]
+    return [frame(0, moving, [0] * 5, [1] * 5, 10.0, 5.0, 0, 0.0),
+            frame(10, moving, [0] * 5, [1] * 5, 9.0, 5.99, contacts, 0.0)]
+
+
+@pytest.mark.parametrize("conservation, contacts, drift", [
+    (CONSERVED, 4, -0.01),  # elastic frictionless contacts: any change is numerical
+    (CONSERVED_WITHOUT_CONTACTS, 0, -0.01),  # an orbit: nothing touched
+    (CONSERVED_WITHOUT_CONTACTS, 4, None),  # inelastic contacts dissipate: that is physics
+    (NOT_CONSERVED, 0, None),  # damping, joints, a moving kinematic body...
+])
+def test_energy_drift_only_where_energy_cannot_change_physically(conservation, contacts, drift):
+    summary = summarise(_orbit(contacts), conservation=conservation)
+    assert summary["energy_change"] == pytest.approx(-0.01)
+    assert summary["energy_drift"] == (None if drift is None else pytest.approx(drift))
+    assert summary["relative_energy_drift"] == (None if drift is None else pytest.approx(drift / 15))
+
+
+def test_energy_conservation_of_scenes():
+    from rustycs_cli.loading import load_scene_text
+
+    def conservation(text: str) -> str:
+        return energy_conservation(load_scene_text(text, "s.yaml").scene)
+
+    ball = "bodies: [{name: b, position: [0, 0], shape: {type: circle, radius: 1}%s}]"
+    elastic = "materials: {gas: {density: 1, restitution: 1, friction: 0}}\n"
+    assert conservation(ball % "") == CONSERVED_WITHOUT_CONTACTS
+    assert conservation(elastic + ball % ", material: gas") == CONSERVED
+    assert conservation(elastic + ball % ", material: gas, linear_damping: 0.1") == NOT_CONSERVED
 
 
 def test_undefined_ratios_are_null():

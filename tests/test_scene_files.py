@@ -20,9 +20,11 @@ SCENES = sorted((ROOT / "scenes").rglob("*.yaml"))
 SHAPES_DEMOS = ["capsule_pile", "cup_of_balls", "curved_ramp", "l_brackets"]  # bodies made of shapes
 JOINT_DEMOS = ["car", "chain_bridge", "crank_slider", "double_pendulum", "gear_train", "newtons_cradle",
                "pendulum", "pulley", "ragdoll"]  # written by scenes/make_joint_scenes.py
+MEASURES_DEMOS = ["cup_goal", "dominoes", "galton_board", "projectile"]  # emitters, sensors, measures
 DEMOS = sorted(
     [
         "all_platforms",
+        "bouncing_ball",
         "material_bounce",
         "pile",
         "pool",
@@ -31,6 +33,7 @@ DEMOS = sorted(
         "solar_system",
         *SHAPES_DEMOS,
         *JOINT_DEMOS,
+        *MEASURES_DEMOS,
     ]
 )
 BENCH = ["S1_bounce", "S2_pyramid20", "S3_pyramid40", "S4_rain1000", "S5_polypile500", "S6_orbits",

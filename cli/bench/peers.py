@@ -3,7 +3,8 @@ shapes (circles, polygons, capsules, segments) on one peer body, and its joints 
 
 Settings follow the peer harness (../shared/bench/peers), so that our numbers can be put next to its:
 pymunk: 10 iterations, collision_slop 0.005 m, no sleeping, no damping; pyb2d3: 4 substeps, sleeping
-off, continuous collision at its default, single-threaded. Both engines mix materials like Box2D
+off, continuous collision at its default (bullets where the scene has them), single-threaded. Both
+engines mix materials like Box2D
 (friction sqrt(f1*f2), restitution max): pymunk multiplies the two shapes' coefficients, so each shape
 gets sqrt(friction) and static shapes elasticity 1 (the scenes' statics have restitution 0, so the
 product equals Box2D's max). Attractors are applied from Python before every step, as the harness does.
@@ -190,7 +191,7 @@ class Box2DWorld:
         body = self.world.create_body(b2.body_def(
             type=kinds[spec.body_type], position=spec.position, rotation=b2.Rot(spec.angle),
             linear_velocity=spec.velocity, angular_velocity=spec.angular_velocity, enable_sleep=False,
-            fixed_rotation=spec.fixed_rotation))
+            fixed_rotation=spec.fixed_rotation, is_bullet=spec.bullet))
         for part in spec.shapes:
             density = part.mass / part.area if part.mass > 0 else 0.0
             shape = b2.shape_def(density=density, material=b2.surface_material(

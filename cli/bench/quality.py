@@ -25,6 +25,7 @@ METRICS: dict[str, tuple[str, ...]] = {
     "compounds": ("max_overlap", "escaped"),
     "joint_grid": ("max_joint_gap",),
     "ragdoll_rain": ("max_joint_gap",),
+    "shower": ("max_overlap", "outside"),
     "scaling": ("max_overlap", "escaped"),
 }
 
@@ -45,6 +46,8 @@ def measure(metrics: tuple[str, ...] | list[str], scene: BenchScene, start: np.n
             out[name] = escaped(scene, end, alive)
         elif name == "max_joint_gap":
             out[name] = max_joint_gap(scene, end)
+        elif name == "outside":
+            out[name] = outside(scene, end, alive)
         elif name in ("mean_radius_drift", "max_radius_drift"):
             drift = radius_drift(scene, start[moving], end[moving])
             out[name] = float(drift.mean() if name.startswith("mean") else drift.max(initial=0.0))
@@ -91,6 +94,17 @@ def escaped(scene: BenchScene, poses: np.ndarray, active: np.ndarray) -> int:
         out = out | (y < statics[:, 1].min())
         if statics[:, 0].max() > statics[:, 0].min():
             out = out | (x < statics[:, 0].min()) | (x > statics[:, 0].max())
+    return int((out & moving).sum())
+
+
+def outside(scene: BenchScene, poses: np.ndarray, active: np.ndarray) -> int:
+    """Dynamic bodies outside a closed box: origin beyond the middle of any of its walls (the static
+    shapes with area) on any side, or deactivated."""
+    statics = np.array([_centre(body, shape) for body in scene.bodies if body.body_type == "static"
+                        for shape in body.shapes if shape.kind != "segment"]).reshape(-1, 2)
+    moving = np.array([b.body_type == "dynamic" for b in scene.bodies], dtype=bool)
+    lo, hi = statics.min(axis=0), statics.max(axis=0)
+    out = ~active | (poses[:, :2] < lo).any(axis=1) | (poses[:, :2] > hi).any(axis=1)
     return int((out & moving).sum())
 
 

@@ -14,6 +14,7 @@ QUALITY_TITLES = {
     "max_displacement": "worst box displacement, m",
     "max_overlap": "deepest overlap, m",
     "escaped": "escaped bodies",
+    "outside": "bodies outside the box",
     "mean_radius_drift": "mean relative drift of the orbit radius",
     "max_radius_drift": "max relative drift of the orbit radius",
 }

@@ -1,4 +1,4 @@
-"""Which scenes the benchmark runs: S1..S6 and compounds from scenes/bench/, and the generated scaling
+"""Which scenes the benchmark runs: S1..S6, compounds and shower from scenes/bench/, and the generated scaling
 series."""
 
 from __future__ import annotations
@@ -14,6 +14,7 @@ SCENE_FILES = {  # id: the file pattern in the bench folder
     "compounds": "compounds.yaml",  # Box2D v3's compounds: 3000 bodies of two triangles, only when named
     "joint_grid": "joint_grid.yaml",  # Box2D v3's joint grid: 19,800 revolute joints, only when named
     "ragdoll_rain": "ragdoll_rain.yaml",  # 100 of Box2D's ragdolls, only when named
+    "shower": "shower.yaml",  # 500 bullets at 100-300 m/s in a box of 2 cm walls, only when named
 }
 SCALING_SIZES = (1000, 4000, 16000)
 SCALING_TICKS = 300

@@ -61,6 +61,7 @@ class BodySpec:
     mass: float  # kg; inf for static and kinematic bodies
     fixed_rotation: bool  # a body with an aabb, or a dynamic body of infinite inertia
     group: int  # same non-zero group: never collide
+    bullet: bool  # continuous collision against dynamic bodies too (Box2D's bullets; pymunk has none)
     shapes: tuple[ShapeSpec, ...]
 
 
@@ -97,7 +98,7 @@ def describe(scene: Scene, world: rustycs.World) -> BenchScene:
             kind=str(kinds[i]), body_type=str(types[i]), position=_vec(positions[i]), angle=float(angles[i]),
             velocity=_vec(velocities[i]), angular_velocity=float(spins[i]), mass=float(masses[i]),
             fixed_rotation=aabb or (types[i] == "dynamic" and math.isinf(inertias[i])),
-            group=body.collision_group,
+            group=body.collision_group, bullet=body.bullet,
             shapes=_shapes(scene, body.name, shapes[i], materials, float(masses[i]))))
     gravity = (sum(f.acceleration[0] for f in scene.forces), sum(f.acceleration[1] for f in scene.forces))
     g = world.gravitational_constant

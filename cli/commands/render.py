@@ -28,8 +28,8 @@ def command(
     view: str = typer.Option(
         None,
         "--view",
-        help="XMIN,YMIN,XMAX,YMAX in metres (default: fit the bodies of "
-        "the first and last frames); widened to the image's aspect ratio.",
+        help="XMIN,YMIN,XMAX,YMAX in metres (default: fit the bodies of the first frame and those "
+        "still in the world at the last); widened to the image's aspect ratio.",
     ),
     hitboxes: bool = typer.Option(False, "--hitboxes", help="Draw each body's axis-aligned hitbox."),
     contacts: bool = typer.Option(False, "--contacts", help="Draw contact points and normals (if recorded)."),

@@ -16,6 +16,9 @@ NAME = "run"
 def command(
     scene: Path = typer.Argument(..., help="Scene file (.yaml), or a trajectory (.h5) to repeat its run."),
     ticks: int = typer.Option(None, "--ticks", min=0, help="Ticks to simulate (default: world.ticks)."),
+    duration: float = typer.Option(None, "--duration", min=0.0,
+                                   help="Seconds to simulate, instead of --ticks (ticks = round(duration * "
+                                   "tick_rate))."),
     out: Path = typer.Option(None, "--out", "-o",
                              help="Output trajectory (default: outputs/<scene name>.h5)."),
     overrides: list[str] = typer.Option([], "--set", "-s", metavar="KEY=VALUE",
@@ -30,7 +33,8 @@ def command(
 ) -> None:
     """Simulate a scene and write its trajectory (HDF5) and summary (table, JSON sidecar).
 
-    Exit codes: 0 complete, 1 diverged, 2 invalid input, 130 interrupted (the file keeps the frames so far).
+    Exit codes: 0 complete or stopped (a world.stop_when condition held), 1 diverged, 2 invalid input, 130
+    interrupted (the file keeps the frames so far).
 
     Example: rustycs run scenes/material_bounce.yaml --ticks 1200 -s world.precision=20 --out bounce.h5
     """
@@ -39,7 +43,11 @@ def command(
 
     started = time.perf_counter()
     try:
+        if ticks is not None and duration is not None:
+            raise UserError("give --ticks or --duration, not both")
         loaded = load_source(scene, tuple(overrides), seed)
+        if duration is not None:
+            ticks = round(duration * loaded.scene.world.tick_rate)
         target = out if out is not None else _default_output(loaded.scene.name, scene)
         result = run_scene(loaded, target, ticks, every, contacts,
                            progress=sys.stderr.isatty() and not quiet, compress=compress, quiet=quiet,

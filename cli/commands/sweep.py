@@ -46,6 +46,12 @@ def command(
     every: int | None = typer.Option(
         None, "--every", min=1, help="Record every N ticks (default: the scene's)."
     ),
+    samples: int | None = typer.Option(
+        None, "--samples", "-n", min=1,
+        help="Random variants: each -p KEY=uniform(LO,HI) or KEY=normal(MEAN,STD) is drawn this many times "
+        "(crossed with the listed values of the other keys).",
+    ),
+    seed: int = typer.Option(0, "--seed", min=0, help="Seed of the random variants (--samples)."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar and no table."),
     as_json: bool = typer.Option(
         False, "--json", help="Print the rows (as in sweep.json) on stdout, nothing else."
@@ -59,17 +65,27 @@ def command(
     complete are skipped, so re-running an interrupted sweep resumes it. Exit 1
     when a variant fails or diverges (the others still run), 130 when interrupted.
 
+    Each measure of the scene is a column `measure.<name>` (a histogram one per bin).
+
     Example: rustycs sweep scenes/material_bounce.yaml -p world.precision=5,10,20
     -p 'forces.gravity.acceleration=[0,-9.81],[0,-1.62]' --ticks 600
+
+    Example: rustycs sweep scenes/projectile.yaml -p 'bodies.ball.velocity.0=uniform(4,8)' --samples 20
     """
     from ..summary import to_json
     from ..sweep import default_workers, plan_sweep, run_sweep
     from ..sweep_report import print_sweep_table, report_problems, variant_progress
+    from ..sweep_sampling import draw_samples, is_sampled, parse_sampled
     from ..sweep_values import parse_swept_keys
 
     if local not in ("threads", "processes"):
         raise UserError(f"--local: expected 'threads' or 'processes', got {local!r}")
-    plan = plan_sweep(scene, parse_swept_keys(params), sets, out, ticks, every)
+    sampled = [parse_sampled(option) for option in params if is_sampled(option)]
+    if bool(sampled) != (samples is not None):
+        raise UserError("give --samples N with -p KEY=uniform(LO,HI) or KEY=normal(MEAN,STD), and only then")
+    rows = draw_samples(sampled, samples or 0, seed)
+    listed = parse_swept_keys([option for option in params if not is_sampled(option)])
+    plan = plan_sweep(scene, listed, sets, out, ticks, every, samples=rows)
     show = not (quiet or as_json)
     with variant_progress(not quiet, len(plan.variants), f"sweep {plan.scene_name}") as on_outcome:
         result = run_sweep(plan, workers or default_workers(), scheduler, on_outcome, quiet=quiet,

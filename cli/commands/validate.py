@@ -23,5 +23,5 @@ def command(
 
     loaded = load_scene(scene, overrides, seed)
     world = loaded.scene.world
-    print(f"{scene}: OK: scene '{loaded.scene.name}', {len(loaded.scene.bodies)} bodies, {world.ticks} ticks "
-          f"at {world.tick_rate:g} Hz")
+    print(f"{scene}: OK: scene '{loaded.scene.name}', {len(loaded.scene.bodies)} bodies, "
+          f"{world.run_ticks} ticks at {world.tick_rate:g} Hz")

@@ -19,6 +19,7 @@ OBSERVABLES = (
     "max_penetration",
 )
 PLOT_FORMATS = (".png", ".pdf", ".svg")
+LEGEND_CHARACTERS = 140  # characters of legend text that fit across the figure, in the legend's font
 
 
 @dataclass(frozen=True)
@@ -50,27 +51,49 @@ def read_series(path: Path, label: str) -> Series:
     return Series(label, time, value)
 
 
-def labels_for(paths: list[Path]) -> list[str]:
-    """Short legend labels: file stems, or the paths themselves when two stems are the same."""
+def read_overrides(path: Path) -> list[str]:
+    """The `--set KEY=VALUE` texts a run was made with (a sweep's variants: the fixed and swept ones)."""
+    from ..trajectory import open_trajectory, read_strings
+
+    with open_trajectory(path) as file:
+        return read_strings(file["parameters/overrides"]) if "parameters/overrides" in file else []
+
+
+def labels_for(paths: list[Path], overrides: list[list[str]]) -> tuple[list[str], str]:
+    """Short legend labels and the legend's title. Runs that differ by overrides (a sweep) are labelled by
+    the values that differ, each under the last part of its key (`restitution=0.9`), the keys in full in
+    the title; other runs by file stem, or by path when two stems are the same."""
+    settings = [dict(text.split("=", 1) for text in texts if "=" in text) for texts in overrides]
+    keys = list(dict.fromkeys(key for run in settings for key in run))
+    varying = [key for key in keys if len({run.get(key) for run in settings}) > 1]
+    if len(paths) > 1 and varying:
+        short = {key: key.rsplit(".", 1)[-1] for key in varying}
+        if len(set(short.values())) < len(short):
+            short = {key: key for key in varying}
+        labels = [", ".join(f"{short[key]}={run.get(key, '(scene)')}" for key in varying) for run in settings]
+        return labels, "runs: " + ", ".join(varying)
     stems = [path.stem for path in paths]
     if len(set(stems)) == len(stems):
-        return stems
-    return [str(path) for path in paths]
+        return stems, "runs"
+    return [str(path) for path in paths], "runs"
 
 
 def plot_runs(paths: list[Path], out: Path, title: str | None = None) -> int:
     """Plot the observables of every run in `paths` on one figure written to `out`; returns the run count."""
     suffix = check_suffix(out, PLOT_FORMATS, "plot")
-    series = [read_series(path, label) for path, label in zip(paths, labels_for(paths), strict=True)]
-    figure = _figure(series, title or f"rustycs: observables of {len(series)} run{'s' * (len(series) > 1)}")
+    labels, legend_title = labels_for(paths, [read_overrides(path) for path in paths])
+    series = [read_series(path, label) for path, label in zip(paths, labels, strict=True)]
+    figure = _figure(series, title or f"rustycs: observables of {len(series)} run{'s' * (len(series) > 1)}",
+                     legend_title)
     with atomic_output(out) as temporary:
         figure.savefig(temporary, format=suffix[1:], dpi=100)
     return len(series)
 
 
-def _figure(series: list[Series], title: str):  # -> matplotlib.figure.Figure
+def _figure(series: list[Series], title: str, legend_title: str = "runs"):  # -> matplotlib.figure.Figure
     """Six panels: energies, energy drift, linear and angular momentum, contact count, max penetration.
-    One colour per run; line styles tell the quantities of a panel apart."""
+    One colour per run; line styles tell the quantities of a panel apart. The runs' legend goes below
+    the panels in as many columns as its longest label lets fit across the figure."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
@@ -122,12 +145,14 @@ def _figure(series: list[Series], title: str):  # -> matplotlib.figure.Figure
         loc="best",
         fontsize="small",
     )
+    longest = max(len(run.label) for run in series) + 10  # the line sample and the gaps
     figure.legend(
         [Line2D([], [], color=color, linewidth=2) for color in colors],
         [run.label for run in series],
         loc="outside lower center",
-        ncols=min(len(series), 5),
-        title="runs",
+        ncols=max(1, min(len(series), 5, LEGEND_CHARACTERS // longest)),
+        title=legend_title,
+        fontsize="small",
     )
     figure.suptitle(title)
     return figure

@@ -92,20 +92,30 @@ def parse_box(text: str, option: str = "--view") -> Box:
 
 
 def fit_box(file: h5py.File, run: RunInfo) -> Box:
-    """A box around the active bodies and whole joints of the first and the last frame (statics included)
-    and the attractors, with a margin: bodies that flew far away do not shrink the interesting part to a
-    dot."""
+    """A box, with a margin, around the attractors, the bodies as the scene placed them (the first frame,
+    statics included) and the bodies still in the world at the last frame: active with their centre,
+    when the world has bounds, inside them; without bounds, within the first frame's box grown by its
+    own size on every side. A body that fell off a platform for seconds, or flew away, does not shrink
+    the scene to a dot. The joints as the scene placed them are taken in too (a pendulum's pivot)."""
     from .joints import joint_lines
 
-    corners = [np.asarray(attractor.position).reshape(1, 2) for attractor in run.attractors]
-    for index in {0, run.frame_count - 1}:
-        position = np.asarray(file[f"{BODIES}/position/value"][index], dtype=np.float64)
-        angle = np.asarray(file[f"{BODIES}/angle/value"][index], dtype=np.float64)
-        boxes = body_hitboxes(run, position, angle)
-        active = np.asarray(file[f"{BODIES}/active/value"][index], dtype=bool)
-        active &= np.isfinite(boxes).all(axis=1)
-        corners += [boxes[active, :2], boxes[active, 2:], *joint_lines(run.joints, index, position, angle)[0]]
-    points = np.concatenate(corners + [np.zeros((0, 2))])
+    attractors = [np.asarray(a.position, dtype=np.float64).reshape(1, 2) for a in run.attractors]
+    start = _active_boxes(file, run, 0)
+    end = _active_boxes(file, run, run.frame_count - 1)
+    if run.bounds is not None:
+        world = run.bounds.reshape(-1)
+    elif len(start):
+        low, high = start[:, :2].min(axis=0), start[:, 2:].max(axis=0)
+        size = np.maximum(high - low, MIN_SPAN)
+        world = np.concatenate([low - size, high + size])
+    else:
+        world = np.array([-np.inf, -np.inf, np.inf, np.inf])
+    centre = (end[:, :2] + end[:, 2:]) / 2
+    inside = np.all((centre >= world[:2]) & (centre <= world[2:]), axis=1)
+    pose = [np.asarray(file[f"{BODIES}/{name}/value"][0], dtype=np.float64) for name in ("position", "angle")]
+    joints = joint_lines(run.joints, 0, *pose)[0]
+    points = np.concatenate(attractors + [start[:, :2], start[:, 2:], end[inside, :2], end[inside, 2:],
+                                          *joints, np.zeros((0, 2))])
     if len(points) == 0:
         return (-5.0, -5.0, 5.0, 5.0)
     low, high = points.min(axis=0), points.max(axis=0)
@@ -115,6 +125,15 @@ def fit_box(file: h5py.File, run: RunInfo) -> Box:
     xmin, ymin = (float(v) for v in centre - half)
     xmax, ymax = (float(v) for v in centre + half)
     return (xmin, ymin, xmax, ymax)
+
+
+def _active_boxes(file: h5py.File, run: RunInfo, index: int) -> np.ndarray:
+    """(K, 4) hitboxes of the bodies active in recorded frame `index` (finite ones only)."""
+    position = np.asarray(file[f"{BODIES}/position/value"][index], dtype=np.float64)
+    angle = np.asarray(file[f"{BODIES}/angle/value"][index], dtype=np.float64)
+    boxes = body_hitboxes(run, position, angle)
+    active = np.asarray(file[f"{BODIES}/active/value"][index], dtype=bool)
+    return boxes[active & np.isfinite(boxes).all(axis=1)]
 
 
 def grid_spacing(scale: float, min_pixels: float = 24.0, max_pixels: float = 240.0) -> float:

@@ -1,0 +1,46 @@
+"""What a run does beyond the physics, at the end of every tick: bodies appear and vanish, sensors sense,
+measures fold the tick in, stop conditions are checked. One record, so that the step takes one argument
+for all of it; each part is empty (and costs nothing) when the world has none.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+from rustycs.emitters import Lifecycle, appear_and_vanish
+from rustycs.measures import Measures, fold
+from rustycs.sensors import Sensors, sense
+from rustycs.stop_conditions import StopConditions, first_held
+from rustycs.tick_kernel import tick_kernel
+
+EVENT_MARGIN = 16  # rows of the events buffer kept free beyond a tick's bound
+
+
+class Scenario(NamedTuple):
+    life: Lifecycle
+    sensors: Sensors
+    measures: Measures
+    stops: StopConditions
+
+
+@tick_kernel
+def events_bound(scenario, n_bodies, n_joints, n_manifolds, n_touching):
+    """The most events a tick can record: a contact begins or ends per manifold now and pair touching
+    before, a body escapes, appears or is removed, enters or leaves each sensor body, a joint breaks."""
+    return (n_manifolds + n_touching + n_bodies * (2 + scenario.sensors.body.shape[0]) + n_joints
+            + EVENT_MARGIN)
+
+
+@tick_kernel
+def after_tick(scenario, bodies, shapes, forces, points, n_points, events, first_event, tick, dt):
+    """Everything but the physics at the end of `tick`, whose events so far are events[first_event:];
+    returns the first stop condition that holds (-1: none)."""
+    appear_and_vanish(scenario.life, bodies, tick, events)
+    if scenario.sensors.body.shape[0] > 0:
+        sense(scenario.sensors, bodies, shapes, tick, events)
+    if scenario.measures.form.shape[0] > 0:
+        fold(scenario.measures, bodies, forces, points, n_points, scenario.sensors, events, first_event, tick,
+             dt)
+    if scenario.stops.kind.shape[0] == 0:
+        return -1
+    return first_held(scenario.stops, bodies, scenario.sensors, events, first_event)

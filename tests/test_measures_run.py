@@ -1,0 +1,229 @@
+"""Measures, stop conditions, emitters and sensors through scene files: the summary, the trajectory, the
+sweep table, sampled sweeps and located errors."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+SCENES = Path(__file__).resolve().parent.parent / "scenes"
+G = 9.81
+
+DROP = """\
+name: drop
+world:
+  tick_rate: 240
+  duration: 2.0
+  stop_when:
+    - {event: contact_begin, bodies: [ball, floor]}
+forces:
+  - {name: gravity, acceleration: [0, -9.81]}
+bodies:
+  - {name: floor, type: static, shape: {type: aabb, width: 10, height: 1}, position: [0, -0.5]}
+  - {name: ball, shape: {type: circle, radius: 0.1}, position: [0, 1.6]}
+measures:
+  - {name: impact, first: {event: contact_begin, bodies: [ball, floor]}}
+"""
+
+TAP = """\
+name: tap
+seed: 4
+world: {tick_rate: 60, ticks: 90}
+forces:
+  - {name: gravity, acceleration: [0, -9.81]}
+bodies:
+  - {name: floor, type: static, shape: {type: aabb, width: 10, height: 1}, position: [0, -0.5]}
+emitters:
+  - name: drops
+    shape: {type: circle, radius: {uniform: [0.04, 0.06]}}
+    region: {min: [-1, 2], max: [1, 2.5]}
+    velocity: [{normal: [0, 0.5]}, 0]
+    rate: 20
+    start: 0.1
+    count: 8
+sinks:
+  - {name: drain, region: {min: [-10, -10], max: [0, 0.3]}}
+measures:
+  - {name: present, of: emitters.drops, count_inside: {min: [-10, -10], max: [10, 10]}}
+  - {name: mean_y, of: emitters.drops.position.y, aggregate: mean}
+"""
+
+
+def run(cli, scene: Path, out: Path, *args: str) -> dict:  # noqa: ANN001
+    result = cli("run", scene, "--out", out, "--json", "--quiet", *args)
+    assert result.exit_code == 0, result.stderr
+    return json.loads(result.stdout)
+
+
+def write(tmp_path: Path, text: str, name: str = "scene.yaml") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_projectile_range_apex_and_value_at_1s_against_the_closed_forms(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    summary = run(cli, SCENES / "projectile.yaml", tmp_path / "p.h5")
+    measures, t = summary["measures"], summary["simulated_seconds"]
+    assert summary["ticks"] == round(1.631 * 240)  # world.duration
+    assert measures["range"] == pytest.approx(6.0 * t, rel=1e-6)  # no force along x: exact
+    assert measures["x_at_1s"] == pytest.approx(6.0, rel=1e-6)
+    assert measures["apex"] == pytest.approx(8.0**2 / (2 * G), rel=0.01)  # the integrator's own error
+    assert measures["slowest"] == pytest.approx(6.0, rel=1e-3)  # at the apex
+    with h5py.File(tmp_path / "p.h5", "r") as file:
+        attrs = file["parameters/summary"].attrs
+        assert attrs["measure.range"] == measures["range"] and attrs["measure.apex"] == measures["apex"]
+    out = tmp_path / "height.png"
+    assert cli("plot", tmp_path / "p.h5", "--body", "ball", "--y", "position.y", "-o", out).exit_code == 0
+    assert out.read_bytes()[:4] == b"\x89PNG"
+    assert cli("plot", tmp_path / "p.h5", "--body", "bal", "-o", out).exit_code == 2
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_a_dropped_ball_stops_the_run_at_its_first_contact(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    summary = run(cli, write(tmp_path, DROP), tmp_path / "drop.h5", "--every", "50")
+    expected = math.sqrt(2 * 1.5 / G)  # its bottom falls 1.5 m
+    assert summary["status"] == "stopped" and summary["stop_reason"] == (
+        '{"event": "contact_begin", "bodies": ["ball", "floor"]}')
+    assert abs(summary["ticks"] - expected * 240) <= 3
+    assert summary["measures"]["impact"] == pytest.approx(summary["ticks"] / 240)
+    with h5py.File(tmp_path / "drop.h5", "r") as file:
+        assert file["parameters"].attrs["status"] == "stopped"
+        assert file["parameters"].attrs["stop_reason"] == summary["stop_reason"]
+        assert file["particles/bodies/position/step"][-1] == summary["ticks"]  # the last frame is that tick
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_emitted_bodies_names_spawn_ticks_sink_and_determinism(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    scene = write(tmp_path, TAP)
+    summary = run(cli, scene, tmp_path / "a.h5")
+    run(cli, scene, tmp_path / "b.h5")
+    with h5py.File(tmp_path / "a.h5", "r") as file:
+        names = list(file["particles/bodies/name"].asstr()[()])
+        spawn = file["particles/bodies/spawn_tick"][()]
+        active = file["particles/bodies/active/value"][()]
+        position = file["particles/bodies/position/value"][()]
+    assert names == ["floor", *(f"drops-{i}" for i in range(8))]
+    assert list(spawn) == [0, *(6 + 3 * i for i in range(8))]  # from 0.1 s, one every 60 / 20 ticks
+    for row, tick in enumerate(spawn[1:], start=1):
+        assert not active[:tick, row].any() and active[tick, row]
+    left = position[-1, 1:, 0] < 0
+    assert summary["measures"]["present"] == 8 - left.sum()  # the sink took those left of x = 0
+    assert not active[-1, 1:][left].any() and active[-1, 1:][~left].all()
+    assert summary["measures"]["mean_y"] == pytest.approx(position[-1, 1:, 1][~left].mean(), rel=1e-12)
+    with h5py.File(tmp_path / "b.h5", "r") as file:
+        assert np.array_equal(file["particles/bodies/position/value"][()], position)  # run to run
+    other = tmp_path / "c.h5"
+    done = subprocess.run([sys.executable, "-m", "rustycs_cli", "run", str(scene), "--out", str(other),
+                           "--quiet"], capture_output=True, text=True, check=False)
+    if done.returncode != 0 and "No module named rustycs_cli.__main__" in done.stderr:
+        done = subprocess.run([str(Path(sys.executable).parent / "rustycs"), "run", str(scene), "--out",
+                               str(other), "--quiet"], capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    with h5py.File(other, "r") as file:
+        assert np.array_equal(file["particles/bodies/position/value"][()], position)  # process to process
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_galton_histogram_counts_every_bead_in_the_bins(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    summary = run(cli, SCENES / "galton_board.yaml", tmp_path / "g.h5", "--every", "100")
+    bins = summary["measures"]["bins"]
+    with h5py.File(tmp_path / "g.h5", "r") as file:
+        names = list(file["particles/bodies/name"].asstr()[()])
+        beads = [i for i, name in enumerate(names) if name.startswith("beads-")]
+        x = file["particles/bodies/position/value"][-1, beads, 0]
+        active = file["particles/bodies/active/value"][-1, beads]
+    assert len(beads) == 60 and len(bins) == 8
+    assert sum(bins) == int((active & (x >= -1.2) & (x <= 1.2)).sum())
+    assert np.array_equal(bins, np.histogram(x[active], bins=np.linspace(-1.2, 1.2, 9))[0])
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_sweep_measure_columns_equal_the_runs_alone_and_duration_keeps_the_time(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    scene = SCENES / "projectile.yaml"
+    result = cli("sweep", scene, "-p", "world.tick_rate=60,120,240", "--out", tmp_path / "sweep", "--quiet",
+                 "--workers", "1")
+    assert result.exit_code == 0, result.stderr
+    with open(tmp_path / "sweep" / "sweep.csv", newline="") as file:
+        rows = list(csv.DictReader(file))
+    assert [c for c in rows[0] if c.startswith("measure.")] == [
+        "measure.range", "measure.apex", "measure.x_at_1s", "measure.slowest"]
+    for row in rows:
+        rate = float(row["world.tick_rate"])
+        assert int(row["ticks"]) == round(1.631 * rate)  # the same simulated time
+        alone = run(cli, scene, tmp_path / f"alone-{row['index']}.h5", "-s", f"world.tick_rate={rate}")
+        for name, value in alone["measures"].items():
+            assert float(row[f"measure.{name}"]) == value
+    out = tmp_path / "range.png"
+    plotted = cli("plot", tmp_path / "sweep" / "sweep.csv", "--x", "world.tick_rate", "--y", "measure.range",
+                  "-o", out)
+    assert plotted.exit_code == 0 and out.read_bytes()[:4] == b"\x89PNG"
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_a_sampled_sweep_is_reproducible_for_one_seed(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    tables = []
+    for attempt, seed in enumerate((7, 7, 8)):
+        result = cli("sweep", SCENES / "projectile.yaml", "-p", "bodies.ball.velocity.0=uniform(4,8)",
+                     "-p", "world.tick_rate=60,120", "--samples", "3", "--seed", str(seed), "--ticks", "10",
+                     "--out", tmp_path / f"s{attempt}", "--quiet", "--workers", "1")
+        assert result.exit_code == 0, result.stderr
+        with open(tmp_path / f"s{attempt}" / "sweep.csv", newline="") as file:
+            tables.append([(r["bodies.ball.velocity.0"], r["world.tick_rate"]) for r in csv.DictReader(file)])
+    assert len(tables[0]) == 6 and tables[0] == tables[1] and tables[0] != tables[2]
+    assert all(4 <= float(v) <= 8 for v, _ in tables[0])
+
+
+BAD = """\
+name: bad
+world:
+  ticks: 100
+  duration: 2.0
+  stop_when:
+    - {inside: floor, bodies: [ball]}
+bodies:
+  - {name: floor, type: static, shape: {type: aabb, width: 10, height: 1}, position: [0, -0.5]}
+  - {name: ball, shape: {type: circle, radius: 0.1}, position: [0, 1]}
+emitters:
+  - {name: tap, shape: {type: circle, radius: 0.1}, position: [0, 2]}
+measures:
+  - {name: a, of: bodies.bal.position.x}
+  - {name: b, of: bodies.ball.position.z}
+  - {name: c, of: bodies.ball.position.x, histogram: [0, 2, 1]}
+  - {name: d, first: {event: contact_begin, bodies: [ball, flor]}}
+"""
+
+
+def test_bad_measures_and_conditions_at_their_file_line_column(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    scene = write(tmp_path, BAD)
+    result = cli("validate", scene)
+    assert result.exit_code == 2
+    lines = result.stderr.strip().splitlines()
+    expected = [
+        f"{scene}:4:13: world.duration: give world.ticks or world.duration, not both",
+        f"{scene}:6:16: world.stop_when.0.inside: 'floor' is not a sensor",
+        f"{scene}:11:5: emitters.tap: missing key 'rate'",
+        f"{scene}:13:19: measures.a.of: unknown body 'bal' (did you mean 'ball'?)",
+        f"{scene}:14:19: measures.b.of: unknown quantity 'position.z'",
+        f"{scene}:15:54: measures.c.histogram: histogram edges must be strictly ascending",
+        f"{scene}:16:60: measures.d.first.bodies.1: unknown body, generator or emitter 'flor'",
+    ]
+    assert len(lines) == len(expected), result.stderr
+    for line, start in zip(lines, expected, strict=True):
+        assert line.startswith(start), (line, start)
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_run_duration_option_sets_the_ticks(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    scene = write(tmp_path, DROP)
+    assert run(cli, scene, tmp_path / "d.h5", "--duration", "0.1")["ticks"] == 24  # 0.1 s at 240 Hz
+    both = cli("run", scene, "--out", tmp_path / "e.h5", "--duration", "0.1", "--ticks", "5")
+    assert both.exit_code == 2 and "give --ticks or --duration, not both" in both.stderr
