@@ -6,11 +6,13 @@ stays fast.
 
 from __future__ import annotations
 
+import signal
 import sys
+import warnings
 
 import typer
 
-from .commands import bench, compare, info, plot, render, run, schema, sweep, validate, watch
+from .commands import bench, compare, info, plot, recover, render, run, schema, sweep, validate, watch
 from .errors import UserError
 
 app = typer.Typer(
@@ -41,12 +43,17 @@ def _options(
     """rustycs: a deterministic 2D rigid-body physics engine and batch simulator."""
 
 
-for module in (run, validate, schema, sweep, compare, render, plot, info, bench, watch):
+for module in (run, validate, schema, sweep, compare, render, plot, info, recover, bench, watch):
     app.command(name=module.NAME, help=module.command.__doc__)(module.command)
 
 
 def main() -> None:
-    """Entry point: run the app, turning user errors into messages and exit code 2."""
+    """Entry point: run the app, turning user errors into messages and exit code 2. SIGTERM interrupts
+    like Ctrl-C (a run installs its own handler, to end with a valid file)."""
+    signal.signal(signal.SIGTERM, _interrupt)
+    # numpy's warnings about non-finite arithmetic are not for users: the program reports what they mean
+    # (a diverged run, a statistic without a value) in its own words
+    warnings.filterwarnings("ignore", category=RuntimeWarning)
     try:
         app()
     except UserError as err:
@@ -56,3 +63,8 @@ def main() -> None:
     except KeyboardInterrupt:
         print("rustycs: interrupted", file=sys.stderr)
         sys.exit(130)
+
+
+def _interrupt(_signum: int, _frame: object) -> None:
+    print("rustycs: interrupted", file=sys.stderr)
+    sys.exit(130)

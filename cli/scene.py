@@ -42,6 +42,38 @@ from rustycs.materials import MATERIALS
 from rustycs.polygon import MAX_POLYGON_VERTICES, polygon_problem
 from rustycs.shapes import MAX_CHAIN_POINTS
 
+from .scene_types import (
+    AccelerationPair,
+    Angle,
+    AngularSpeed,
+    CollisionBits,
+    CollisionGroup,
+    Count,
+    Damping,
+    Density,
+    Distance,
+    Every,
+    Factor,
+    FiniteFloat,
+    FinitePair,
+    Friction,
+    Length,
+    Mass,
+    Name,
+    Point,
+    PositiveLength,
+    Precision,
+    Rate,
+    Restitution,
+    SceneName,
+    Seed,
+    SmallInt,
+    Speed,
+    Text,
+    Ticks,
+    VelocityPair,
+)
+
 if typing.TYPE_CHECKING:
     from .scene_joints import Joint
 
@@ -106,9 +138,11 @@ class Material(_Model):
     """A material: its density gives a body's mass; restitution and friction of a contact are the means of
     the two bodies' values."""
 
-    density: float = Field(gt=0, description="Mass per area, kg/m^2. > 0.", examples=[1.2])
-    restitution: float = Field(ge=0, le=1, description="Bounciness, 0 (none) to 1 (elastic).", examples=[0.5])
-    friction: float = Field(ge=0, description="Coulomb friction coefficient, >= 0.", examples=[0.6])
+    density: Density = Field(gt=0, description="Mass per area, kg/m^2. > 0.", examples=[1.2])
+    restitution: Restitution = Field(
+        ge=0, le=1, description="Bounciness, 0 (none) to 1 (elastic).", examples=[0.5]
+    )
+    friction: Friction = Field(ge=0, description="Coulomb friction coefficient, >= 0.", examples=[0.6])
 
 
 PRESET_MATERIALS: dict[str, Material] = {
@@ -165,12 +199,12 @@ class _Shape(_Model):
     made of, and whether it only detects overlaps."""
 
     type: str = Field(description="Shape kind.")  # narrowed by each shape; declared here to come first
-    offset: Vec2 = Field(
+    offset: Point = Field(
         (0.0, 0.0),
         description="Where the shape's origin sits in the body's frame [x, y], m.",
         examples=[[0, -0.9]],
     )
-    angle: float = Field(
+    angle: Angle = Field(
         0.0, description="The shape's rotation in the body's frame, rad, counter-clockwise.", examples=[0.5]
     )
     material: MaterialRef | None = Field(
@@ -197,7 +231,7 @@ class Circle(_Shape):
     """A circle centred on the shape's origin."""
 
     type: Literal["circle"] = Field(description="Shape kind.", examples=["circle"])
-    radius: float = Field(gt=0, description="Radius, m. > 0.", examples=[0.5])
+    radius: PositiveLength = Field(gt=0, description="Radius, m. > 0.", examples=[0.5])
 
 
 class Aabb(_Shape):
@@ -205,8 +239,8 @@ class Aabb(_Shape):
     may be given an angle (its body has fixed rotation); use `obb` for a box that turns."""
 
     type: Literal["aabb"] = Field(description="Shape kind.", examples=["aabb"])
-    width: float = Field(gt=0, description="Extent along x, m. > 0.", examples=[12.0])
-    height: float = Field(gt=0, description="Extent along y, m. > 0.", examples=[0.5])
+    width: PositiveLength = Field(gt=0, description="Extent along x, m. > 0.", examples=[12.0])
+    height: PositiveLength = Field(gt=0, description="Extent along y, m. > 0.", examples=[0.5])
 
     _angle_is_zero = field_validator("angle")(_no_turn_of_aabb)
 
@@ -215,14 +249,18 @@ class Obb(_Shape):
     """An oriented box centred on the shape's origin; the body's `angle` (and the shape's) turn it."""
 
     type: Literal["obb"] = Field(description="Shape kind.", examples=["obb"])
-    width: float = Field(gt=0, description="Extent along the shape's local x axis, m. > 0.", examples=[1.0])
-    height: float = Field(gt=0, description="Extent along the shape's local y axis, m. > 0.", examples=[1.0])
+    width: PositiveLength = Field(
+        gt=0, description="Extent along the shape's local x axis, m. > 0.", examples=[1.0]
+    )
+    height: PositiveLength = Field(
+        gt=0, description="Extent along the shape's local y axis, m. > 0.", examples=[1.0]
+    )
 
 
 class _PolygonGeometry(_Model):
     """A simple polygon's vertices; whether they are one is the engine's decision (`polygon_problem`)."""
 
-    vertices: list[Vec2] = Field(
+    vertices: list[Point] = Field(
         description=f"3 to {MAX_POLYGON_VERTICES} points [x, y], m, in the shape's frame: a simple polygon "
         "(no two edges cross or touch), convex or not, either winding.",
         examples=[[[0, 0], [1, 0], [0, 1]]],
@@ -264,13 +302,13 @@ class Capsule(_Shape):
     local x axis, centred on its origin."""
 
     type: Literal["capsule"] = Field(description="Shape kind.", examples=["capsule"])
-    length: float = Field(
+    length: Length = Field(
         ge=0,
         description="Distance between the centres of the end circles, m, along the shape's x axis. >= 0 "
         "(0: a circle).",
         examples=[1.0],
     )
-    radius: float = Field(gt=0, description="Radius of the end circles, m. > 0.", examples=[0.25])
+    radius: PositiveLength = Field(gt=0, description="Radius of the end circles, m. > 0.", examples=[0.25])
 
 
 def _count_of(points: Any, least: int, most: int, what: str) -> Any:
@@ -285,7 +323,7 @@ def _count_of(points: Any, least: int, most: int, what: str) -> Any:
 class _SegmentGeometry(_Model):
     """A segment's two end points."""
 
-    points: list[Vec2] = Field(
+    points: list[Point] = Field(
         description="The two end points [[x0, y0], [x1, y1]], m, in the shape's frame.",
         examples=[[[-1, 0], [1, 0]]],
         json_schema_extra={"minItems": 2, "maxItems": 2},
@@ -314,7 +352,7 @@ class Segment(_SegmentGeometry, _Shape):
 class _ChainGeometry(_Model):
     """A chain's points and whether it closes."""
 
-    points: list[Vec2] = Field(
+    points: list[Point] = Field(
         description=f"2 to {MAX_CHAIN_POINTS} points [x, y], m, in the shape's frame, joined in order by "
         "segments; no two consecutive points equal.",
         examples=[[[-3, 0], [0, -1], [3, 0]]],
@@ -436,7 +474,7 @@ class Body(_Model):
         json_schema_extra={"oneOf": [{"required": ["shape"]}, {"required": ["shapes"]}]}
     )
 
-    name: str | None = Field(
+    name: Name | None = Field(
         None,
         min_length=1,
         description="Unique name: the body's id in every output. Default: '<shape type>-<index in bodies>', "
@@ -468,18 +506,18 @@ class Body(_Model):
             ]
         ],
     )
-    position: Vec2 = Field(
+    position: Point = Field(
         description="The body's origin [x, y], m (the centre for circles and boxes).", examples=[[0, 2]]
     )
-    velocity: Vec2 = Field(
+    velocity: VelocityPair = Field(
         (0.0, 0.0), description="Initial centre-of-mass velocity [vx, vy], m/s.", examples=[[1, 0]]
     )
-    angle: float = Field(
+    angle: Angle = Field(
         0.0,
         description="Initial orientation, rad, counter-clockwise. Must be 0 for a body with an aabb shape.",
         examples=[0.3],
     )
-    angular_velocity: float = Field(
+    angular_velocity: AngularSpeed = Field(
         0.0, description="Initial angular velocity, rad/s, counter-clockwise.", examples=[2.0]
     )
     material: MaterialRef = Field(
@@ -488,44 +526,44 @@ class Body(_Model):
         "inline {density, restitution, friction}; the material of every shape that names none.",
         examples=["rubber", {"density": 2.0, "restitution": 0.1, "friction": 0.9}],
     )
-    mass: float | None = Field(
+    mass: Mass | None = Field(
         None,
         gt=0,
         description="Mass, kg, overriding area x density; inertia scales with it. Default: area x density.",
         examples=[3.0],
     )
-    collision_group: int = Field(
+    collision_group: CollisionGroup = Field(
         defaults.COLLISION_GROUP,
         description="Two bodies with the same non-zero group never collide with each other (0: collides "
         "with everything).",
         examples=[1],
     )
-    collision_category: int = Field(
+    collision_category: CollisionBits = Field(
         defaults.COLLISION_CATEGORY,
         ge=0,
         description="Bits: the categories this body belongs to. Two bodies collide only when "
         "(category_a & mask_b) != 0 and (category_b & mask_a) != 0.",
         examples=[2],
     )
-    collision_mask: int = Field(
+    collision_mask: CollisionBits = Field(
         defaults.COLLISION_MASK,
         ge=-1,
         description="Bits: the categories this body collides with (-1: all).",
         examples=[5],
     )
-    linear_damping: float = Field(
+    linear_damping: Damping = Field(
         defaults.LINEAR_DAMPING,
         ge=0,
         description="1/s: the velocity decays as dv/dt = -c v. >= 0.",
         examples=[0.1],
     )
-    angular_damping: float = Field(
+    angular_damping: Damping = Field(
         defaults.ANGULAR_DAMPING,
         ge=0,
         description="1/s: the angular velocity decays as dw/dt = -c w. >= 0.",
         examples=[0.1],
     )
-    gravity_scale: float = Field(
+    gravity_scale: Factor = Field(
         defaults.GRAVITY_SCALE,
         description="Multiplies the world force (the sum of `forces`) for this body; attractors are "
         "unaffected.",
@@ -573,29 +611,29 @@ class Body(_Model):
 class Force(_Model):
     """A constant acceleration on every dynamic body (all forces are summed into one world force)."""
 
-    name: str | None = Field(
+    name: Name | None = Field(
         None,
         description="Optional name, for overrides like forces.gravity.acceleration.",
         examples=["gravity"],
     )
-    acceleration: Vec2 = Field(description="Acceleration [ax, ay], m/s^2.", examples=[[0, -9.81]])
+    acceleration: AccelerationPair = Field(description="Acceleration [ax, ay], m/s^2.", examples=[[0, -9.81]])
 
 
 class Attractor(_Model):
     """A fixed point pulling dynamic bodies with the acceleration G*M/d^2 towards it, whatever their mass."""
 
-    name: str | None = Field(
+    name: Name | None = Field(
         None, description="Optional name, for overrides like attractors.sun.mass.", examples=["sun"]
     )
-    position: Vec2 = Field(description="Position [x, y], m.", examples=[[0, 0]])
-    mass: float = Field(gt=0, description="M, kg. > 0.", examples=[1000.0])
-    range: float | None = Field(
+    position: Point = Field(description="Position [x, y], m.", examples=[[0, 0]])
+    mass: Mass = Field(gt=0, description="M, kg. > 0.", examples=[1000.0])
+    range: Distance | None = Field(
         None,
         gt=0,
         description="Only bodies within this distance, m, are pulled. Default: no limit.",
         examples=[5.0],
     )
-    min_distance: float = Field(
+    min_distance: Distance = Field(
         defaults.MIN_DISTANCE,
         gt=0,
         description="Softening: d is taken as max(d, min_distance), m.",
@@ -606,8 +644,8 @@ class Attractor(_Model):
 class Rect(_Model):
     """An axis-aligned rectangle given by its corners."""
 
-    min: Vec2 = Field(description="Lower-left corner [x, y], m.", examples=[[-100, -100]])
-    max: Vec2 = Field(description="Upper-right corner [x, y], m.", examples=[[100, 100]])
+    min: Point = Field(description="Lower-left corner [x, y], m.", examples=[[-100, -100]])
+    max: Point = Field(description="Upper-right corner [x, y], m.", examples=[[100, 100]])
 
     @model_validator(mode="after")
     def _ordered(self) -> Rect:
@@ -629,16 +667,16 @@ from .scene_measures import (  # noqa: E402  (built on the models above)
 class World(_Model):
     """Time stepping and world-wide settings."""
 
-    tick_rate: float = Field(
+    tick_rate: Rate = Field(
         defaults.TICK_RATE, gt=0, description="Ticks per second; dt = 1 / tick_rate. > 0.", examples=[240]
     )
-    ticks: int = Field(
+    ticks: Ticks = Field(
         600,
         ge=0,
         description="Default run length in ticks (`rustycs run --ticks` overrides).",
         examples=[1200],
     )
-    precision: int = Field(
+    precision: Precision = Field(
         defaults.PRECISION,
         ge=1,
         description="Solver substeps per tick (the thesis's collision precision): each substep of "
@@ -646,7 +684,7 @@ class World(_Model):
         "hold stacks and joints stiffer and cost more time per tick. >= 1.",
         examples=[10],
     )
-    gravitational_constant: float = Field(
+    gravitational_constant: Factor = Field(
         defaults.GRAVITATIONAL_CONSTANT, ge=0, description="G used by attractors.", examples=[1.0]
     )
     bounds: Rect | None = Field(
@@ -655,7 +693,7 @@ class World(_Model):
         "collides) and counted as escaped. Default: unbounded.",
         examples=[{"min": [-100, -100], "max": [100, 100]}],
     )
-    restitution_threshold: float = Field(
+    restitution_threshold: Speed = Field(
         defaults.RESTITUTION_THRESHOLD,
         ge=0,
         description="Contacts approaching slower than this, m/s, do not bounce (addition).",
@@ -679,7 +717,9 @@ class World(_Model):
 class Output(_Model):
     """What a run records."""
 
-    every: int = Field(1, ge=1, description="Record every N ticks (tick 0 is always recorded).", examples=[4])
+    every: Every = Field(
+        1, ge=1, description="Record every N ticks (tick 0 is always recorded).", examples=[4]
+    )
     contacts: bool = Field(False, description="Also record every contact point.", examples=[True])
     events: bool = Field(
         False,
@@ -704,7 +744,7 @@ def _without_unused(data: dict[str, Any], **unused: Any) -> dict[str, Any]:
 class Uniform(_Keyed):
     """A value drawn uniformly from [lo, hi)."""
 
-    uniform: Vec2 = Field(description="[lo, hi]", examples=[[0.1, 0.3]])
+    uniform: FinitePair = Field(description="[lo, hi]", examples=[[0.1, 0.3]])
 
     @model_validator(mode="after")
     def _ordered(self) -> Uniform:
@@ -716,7 +756,7 @@ class Uniform(_Keyed):
 class UniformInt(_Keyed):
     """A whole number drawn uniformly from lo..hi (both included)."""
 
-    uniform_int: tuple[int, int] = Field(description="[lo, hi], inclusive", examples=[[3, 8]])
+    uniform_int: tuple[SmallInt, SmallInt] = Field(description="[lo, hi], inclusive", examples=[[3, 8]])
 
     @model_validator(mode="after")
     def _ordered(self) -> UniformInt:
@@ -728,7 +768,7 @@ class UniformInt(_Keyed):
 class Normal(_Keyed):
     """A value drawn from a normal distribution."""
 
-    normal: Vec2 = Field(description="[mean, standard deviation]", examples=[[0.0, 0.5]])
+    normal: FinitePair = Field(description="[mean, standard deviation]", examples=[[0.0, 0.5]])
 
     @model_validator(mode="after")
     def _spread(self) -> Normal:
@@ -740,7 +780,7 @@ class Normal(_Keyed):
 class NumberChoice(_Keyed):
     """One of the listed numbers, each equally likely."""
 
-    choice: list[float] = Field(
+    choice: list[FiniteFloat] = Field(
         min_length=1, description="The numbers to choose from.", examples=[[0.1, 0.2]]
     )
 
@@ -757,7 +797,7 @@ Number = _one_of(
     "number",
     "expected a number or a distribution: {uniform: [lo, hi]}, {uniform_int: [lo, hi]}, "
     "{normal: [mean, std]} or {choice: [a, b, ...]}",
-    number=float,
+    number=FiniteFloat,
     uniform=Uniform,
     uniform_int=UniformInt,
     normal=Normal,
@@ -968,9 +1008,9 @@ GeneratedShape = _one_of(
 class PyramidParams(_Model):
     """Rows of bodies, each row one shorter and centred on the row below."""
 
-    base: int = Field(ge=1, description="Bodies in the bottom row.", examples=[20])
-    origin: Vec2 = Field(description="Centre of the bottom row [x, y], m.", examples=[[0, 0.5]])
-    spacing: Vec2 = Field(
+    base: Count = Field(ge=1, description="Bodies in the bottom row.", examples=[20])
+    origin: Point = Field(description="Centre of the bottom row [x, y], m.", examples=[[0, 0.5]])
+    spacing: Point = Field(
         description="[dx, dy]: distance between neighbours in a row and between rows, m.",
         examples=[[1.0, 1.0]],
     )
@@ -979,8 +1019,8 @@ class PyramidParams(_Model):
 class StackParams(_Model):
     """A vertical column of bodies, bottom up."""
 
-    origin: Vec2 = Field(description="Position of the bottom body [x, y], m.", examples=[[0, 0.5]])
-    spacing: float = Field(
+    origin: Point = Field(description="Position of the bottom body [x, y], m.", examples=[[0, 0.5]])
+    spacing: PositiveLength = Field(
         gt=0, description="Vertical distance between consecutive bodies, m.", examples=[1.0]
     )
 
@@ -988,12 +1028,12 @@ class StackParams(_Model):
 class GridParams(_Model):
     """Rows of `columns` bodies, filled left to right, bottom up."""
 
-    origin: Vec2 = Field(description="Position of the bottom-left body [x, y], m.", examples=[[-9, 1]])
-    columns: int = Field(ge=1, description="Bodies per row.", examples=[20])
-    spacing: Vec2 = Field(
+    origin: Point = Field(description="Position of the bottom-left body [x, y], m.", examples=[[-9, 1]])
+    columns: Count = Field(ge=1, description="Bodies per row.", examples=[20])
+    spacing: Point = Field(
         description="[dx, dy]: distance between columns and between rows, m.", examples=[[0.6, 0.6]]
     )
-    jitter: Vec2 = Field(
+    jitter: Point = Field(
         (0.0, 0.0),
         description="Each position is moved by a uniform offset in [-jx, jx] x [-jy, jy], m.",
         examples=[[0.05, 0.05]],
@@ -1038,14 +1078,14 @@ class Generator(_Model):
 
     model_config = ConfigDict(json_schema_extra=Body.model_config["json_schema_extra"])
 
-    name: str | None = Field(
+    name: Name | None = Field(
         None,
         min_length=1,
         description="Names the bodies '<name>-<i>' and seeds the generator's random "
         "numbers (with the scene's seed). Default: 'generator-<index>'.",
         examples=["rain"],
     )
-    count: int | None = Field(
+    count: Count | None = Field(
         None,
         ge=0,
         description="Number of bodies. Required, except for a pyramid layout, where it defaults "
@@ -1108,13 +1148,13 @@ class Generator(_Model):
         description="Mass override, kg (number or distribution). Default: area x density.",
         examples=[1.0],
     )
-    collision_group: int = Field(
+    collision_group: CollisionGroup = Field(
         defaults.COLLISION_GROUP, description="collision_group of every body.", examples=[0]
     )
-    collision_category: int = Field(
+    collision_category: CollisionBits = Field(
         defaults.COLLISION_CATEGORY, ge=0, description="collision_category of every body.", examples=[2]
     )
-    collision_mask: int = Field(
+    collision_mask: CollisionBits = Field(
         defaults.COLLISION_MASK, ge=-1, description="collision_mask of every body.", examples=[5]
     )
     linear_damping: Number = Field(
@@ -1196,11 +1236,11 @@ class Scene(_Model):
     )
 
     version: Literal[1] = Field(1, description="Scene format version.", examples=[1])
-    name: str | None = Field(
+    name: SceneName | None = Field(
         None, min_length=1, description="Scene name. Default: the file's stem.", examples=["material-bounce"]
     )
-    description: str = Field("", description="Free text.", examples=["Five balls of different materials."])
-    seed: int = Field(
+    description: Text = Field("", description="Free text.", examples=["Five balls of different materials."])
+    seed: Seed = Field(
         0, ge=0, description="Seeds every generator (`rustycs run --seed` overrides).", examples=[0]
     )
     world: World = Field(
@@ -1219,7 +1259,7 @@ class Scene(_Model):
         description="Fixed points that pull dynamic bodies.",
         examples=[[{"name": "sun", "position": [0, 0], "mass": 1000}]],
     )
-    materials: dict[str, Material] = Field(
+    materials: dict[Name, Material] = Field(
         {},
         description=f"User materials by name; they extend, and may override, the presets {_PRESET_VALUES} "
         "as (density, restitution, friction).",

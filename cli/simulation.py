@@ -18,6 +18,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from .errors import UserError
+
 if TYPE_CHECKING:
     from .loading import LoadedScene
 
@@ -57,23 +59,32 @@ def load_source(path: str | Path, overrides: tuple[str, ...] = (), seed: int | N
 
 def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: int | None = None,
               contacts: bool | None = None, progress: bool = False, *, compress: bool = False,
-              quiet: bool = False, started: float | None = None) -> RunResult:
+              quiet: bool = False, started: float | None = None, allow_full_disk: bool = False) -> RunResult:
     """Simulate `loaded` and write the trajectory to `out` and the summary next to it.
 
     ticks, every and contacts default to the scene's; `progress` shows a bar on stderr; `quiet`
     silences the one-line compilation notice; `started` (time.perf_counter) is when the command
-    began, for the summary's wall time.
+    began, for the summary's wall time. A run that would not fit on the disk is refused unless
+    `allow_full_disk`; a disk that fills up anyway ends the run with one message and no file.
     """
     import rustycs
 
     from .build import build_world, material_names, shape_material_names
+    from .output_files import (
+        check_free_space,
+        check_trajectory_output,
+        estimated_bytes,
+        output_lock,
+        stale_temporaries,
+        writing_errors,
+    )
+    from .run_pace import Pace
     from .scenario import attach, measure_columns, measure_results, plan_run, stop_reason
     from .summary import SummaryTracker, energy_conservation, sidecar_path, to_json, write_text_atomic
     from .trajectory import (
         BLOCK_FRAMES,
         Frame,
         TrajectoryWriter,
-        check_output_path,
         package_version,
     )
     from .trajectory_joints import joint_drawing
@@ -84,10 +95,15 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
     scene = plan.scene  # with the bodies its emitters may emit
     every = scene.output.every if every is None else every
     contacts = scene.output.contacts if contacts is None else contacts
-    check_output_path(out)
-    with _stop_requests() as stop_requested:
+    check_run_options(ticks, every)
+    check_trajectory_output(out)
+    with output_lock(out), writing_errors(out), _stop_requests() as stop_requested:
+        for stale in stale_temporaries(out.parent, of=out.name):  # killed runs of this output
+            stale.unlink(missing_ok=True)
         world = build_world(scene, plan)
         attach(world, plan, contact_events=scene.output.events)
+        if not allow_full_disk:
+            check_free_space(out, estimated_bytes(world.body_count, ticks, every))
         if rustycs.compile_needed() and not quiet:
             print(f"rustycs: compiling the engine (happens once, ~{COMPILE_SECONDS} s)...", file=sys.stderr)
         warm_up()
@@ -119,15 +135,17 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
             world.capture(frames)
             record(1)
             status, message, step_seconds = "complete", None, 0.0
+            pace = Pace(every, per_call * every)
             while world.tick < ticks:
                 if stop_requested():
                     status = "interrupted"
                     message = f"rustycs: interrupted at tick {world.tick}; the frames so far are in {out}"
                     break
-                count = min(per_call * every, ticks - world.tick)
+                count, call_every = pace.next_call(world.tick, ticks)
                 begin = time.perf_counter()
                 try:
-                    recorded = world.step(count, record=frames, every=every)
+                    recorded = (world.step(count, record=frames, every=call_every) if call_every
+                                else world.step(count))
                 except rustycs.SimulationDiverged as err:
                     step_seconds += time.perf_counter() - begin
                     writer.events.append(world.events())
@@ -135,7 +153,9 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
                     status = "diverged"
                     message = _divergence_message(err, names, tracker.last.tick if tracker.last else 0, out)
                     break
-                step_seconds += time.perf_counter() - begin
+                elapsed = time.perf_counter() - begin
+                step_seconds += elapsed
+                pace.took(count, elapsed)
                 writer.events.append(world.events())
                 record(recorded)
                 advance(count)
@@ -157,10 +177,20 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
                 "divergence": summary["divergence"], "stop_reason": summary["stop_reason"],
             }
             attributes = {key: value for key, value in summary.items() if key != "measures"}
+            sidecar = sidecar_path(out)
+            sidecar.unlink(missing_ok=True)  # never a new trajectory beside an older run's summary
             writer.finish(parameters, {**attributes, **measure_columns(summary["measures"])})
-        sidecar = sidecar_path(out)
         write_text_atomic(sidecar, to_json(summary) + "\n")
     return RunResult(out, sidecar, summary, status, EXIT_CODES[status], message)
+
+
+def check_run_options(ticks: int | None, every: int | None) -> None:
+    """UserError for a tick count or recording interval beyond MAX_TICKS (before any work)."""
+    from .limits import MAX_TICKS
+
+    for option, value, least in (("--ticks", ticks, 0), ("--every", every, 1)):
+        if value is not None and not least <= value <= MAX_TICKS.value:
+            raise UserError(f"{option} {value}: must be from {least} to {MAX_TICKS}")
 
 
 def _divergence_message(err: Any, names: list[str], last_tick: int, out: Path) -> str:

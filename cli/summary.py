@@ -207,9 +207,12 @@ def _finite(value: Any) -> Any:
 
 
 def write_text_atomic(path: Path, text: str) -> None:
-    """Write `text` under a temporary name in the same folder, then rename it to `path`."""
+    """Write `text` under a temporary name in the same folder, then rename it to `path` (never over a
+    device, pipe or socket)."""
+    from .output_files import refuse_special
     from .trajectory import temporary_path
 
+    refuse_special(path)
     temporary = temporary_path(path)
     try:
         temporary.write_text(text, encoding="utf-8")

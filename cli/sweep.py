@@ -47,6 +47,7 @@ class VariantTask:
     output: Path
     ticks: int | None = None
     every: int | None = None
+    allow_full_disk: bool = False  # checked once for the whole sweep, before any variant runs
 
 
 @dataclass
@@ -73,6 +74,7 @@ class Variant:
     task: VariantTask
     sha256: str
     expected_ticks: int
+    expected_bytes: int  # about how large its trajectory gets
 
 
 @dataclass
@@ -100,8 +102,16 @@ def plan_sweep(
     values is run with each sample. Raises one UserError listing the problems of all invalid variants,
     before anything runs.
     """
-    from .simulation import load_source
+    from .limits import MAX_VARIANTS
+    from .output_files import check_output_folder, estimated_bytes, inside
+    from .simulation import check_run_options, load_source
 
+    check_run_options(ticks, every)
+    if out_dir is not None:
+        check_output_folder(out_dir)
+    count = functools.reduce(lambda product, key: product * len(key.values), swept, 1)
+    if count > MAX_VARIANTS.value:
+        raise UserError(f"the sweep has {count} variants, more than {MAX_VARIANTS}; sweep fewer values")
     combinations = list(itertools.product(*(key.values for key in swept)))
     if samples:
         swept = [*swept, *(SweptKey(key, ()) for key in samples[0])]
@@ -123,11 +133,13 @@ def plan_sweep(
                 )
             continue
         scene_name = loaded.scene.name
-        folder = out_dir if out_dir is not None else Path("outputs") / f"{scene_name}-sweep"
+        folder = out_dir if out_dir is not None else inside(Path("outputs"), f"{scene_name}-sweep")
         output = folder / f"{scene_name}-{index:0{width}d}-{_slug(label)}.h5"
-        task = VariantTask(index, scene.resolve(), overrides, output.resolve(), ticks, every)
+        task = VariantTask(index, scene.resolve(), overrides, output.resolve(), ticks, every, True)
         expected = ticks if ticks is not None else loaded.scene.world.run_ticks
-        variants.append(Variant(parameters, label, task, loaded.sha256, expected))
+        size = estimated_bytes(len(loaded.scene.bodies), expected,
+                               every if every is not None else loaded.scene.output.every)
+        variants.append(Variant(parameters, label, task, loaded.sha256, expected, size))
     if problems:
         raise UserError(_name_variants(problems, len(combinations)))
     return SweepPlan(scene_name, folder, swept, variants)
@@ -196,7 +208,8 @@ def run_variant(task: VariantTask) -> VariantOutcome:
 
     try:
         loaded = load_source(task.scene, task.overrides)
-        result = run_scene(loaded, task.output, ticks=task.ticks, every=task.every, quiet=True)
+        result = run_scene(loaded, task.output, ticks=task.ticks, every=task.every, quiet=True,
+                           allow_full_disk=task.allow_full_disk)
     except UserError as err:
         return VariantOutcome(task.index, FAILED, error="; ".join(err.messages))
     except Exception as err:  # a crashed variant must not stop the others
@@ -215,8 +228,26 @@ def run_variants(tasks: Sequence[VariantTask]) -> list[VariantOutcome]:
 
 def _ignore_sigint() -> None:
     """Idle pool workers ignore Ctrl-C (the main process handles it); a running variant's own
-    handler still stops its run, which then ends as interrupted with its frames kept."""
+    handler still stops its run, which then ends as interrupted with its frames kept. A worker whose
+    sweep process is gone (killed) stops its variant the same way and exits."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    threading.Thread(target=_exit_when_orphaned, args=(os.getppid(),), daemon=True).start()
+
+
+ORPHAN_CHECK_SECONDS = 0.5
+ORPHAN_GRACE_SECONDS = 10.0  # for the running variant to close its file as interrupted
+
+
+def _exit_when_orphaned(parent: int) -> None:
+    """In a pool worker: once the parent process has died, interrupt the running variant (its
+    trajectory is kept) and exit, rather than wait forever for work that will never come."""
+    import time
+
+    while os.getppid() == parent:
+        time.sleep(ORPHAN_CHECK_SECONDS)
+    os.kill(os.getpid(), signal.SIGINT)
+    time.sleep(ORPHAN_GRACE_SECONDS)
+    os._exit(1)
 
 
 def _interrupt_pool_workers() -> None:
@@ -340,10 +371,24 @@ def _dask_client(address: str) -> Any:
         raise UserError(
             "--scheduler needs the 'distributed' package: pip install 'rustycs[dask]'"
         ) from None
-    try:
-        return Client(address, timeout=CONNECT_TIMEOUT)
-    except (OSError, TimeoutError, ValueError) as err:
-        raise UserError(f"cannot reach the Dask scheduler at {address}: {err}") from None
+    # in a thread with a deadline: a scheduler that accepts the connection and never answers would
+    # otherwise hang the handshake past Client's own timeout
+    found: list[Any] = []
+
+    def connect() -> None:
+        try:
+            found.append(Client(address, timeout=CONNECT_TIMEOUT))
+        except (OSError, TimeoutError, ValueError) as err:
+            found.append(err)
+
+    thread = threading.Thread(target=connect, daemon=True)
+    thread.start()
+    thread.join(2 * CONNECT_TIMEOUT)
+    if not found:
+        raise UserError(f"cannot reach the Dask scheduler at {address}: no answer in {CONNECT_TIMEOUT:g} s")
+    if isinstance(found[0], Exception):
+        raise UserError(f"cannot reach the Dask scheduler at {address}: {found[0]}") from None
+    return found[0]
 
 
 @dataclass
@@ -389,14 +434,19 @@ def run_sweep(
     on_outcome: Callable[[Variant, VariantOutcome], None] | None = None,
     quiet: bool = False,
     local: str = "threads",
+    allow_full_disk: bool = False,
 ) -> SweepResult:
     """Skip finished variants, run the others, write sweep.csv and sweep.json, and return the result.
+    Variants whose trajectories together would not fit on the disk are refused before any runs, unless
+    `allow_full_disk`.
 
     `quiet` silences the one-line notice when the engine must first be compiled. Ctrl-C or SIGTERM
     stops the sweep: running variants end as interrupted (their frames kept), the
     tables are still written (variants that never started as "not run") and the result says
     interrupted.
     """
+    from .output_files import check_free_space, writing_errors
+
     by_index = {variant.task.index: variant for variant in plan.variants}
     result = SweepResult(plan, {})
     pending = []
@@ -406,6 +456,9 @@ def run_sweep(
             pending.append(variant.task)
         else:
             _record(result, by_index, outcome, on_outcome)
+    if not allow_full_disk:
+        needed = sum(by_index[task.index].expected_bytes for task in pending)
+        check_free_space(plan.out_dir / "sweep.json", needed)
     plan.out_dir.mkdir(parents=True, exist_ok=True)
     try:
         if pending and scheduler is None:
@@ -417,7 +470,8 @@ def run_sweep(
             )
     except KeyboardInterrupt:  # between two variants run in this process
         result.interrupted = True
-    write_tables(plan.out_dir, result.rows())
+    with writing_errors(plan.out_dir / "sweep.json"):
+        write_tables(plan.out_dir, result.rows())
     return result
 
 

@@ -63,7 +63,13 @@ def parse_swept_key(option: str) -> SweptKey:
     texts = _range_texts(option, match["args"]) if match else _split_top_level(option, rest)
     if len(set(texts)) != len(texts):
         raise UserError(f"-p {option}: a value is listed twice")
-    return SweptKey(key, tuple(SweptValue(text, _parse(option, text)) for text in texts))
+    parse = _number if match else _parse  # a range's values are numbers: no YAML needed
+    return SweptKey(key, tuple(SweptValue(text, parse(option, text)) for text in texts))
+
+
+def _number(_option: str, text: str) -> int | float:
+    """A number written by `_range_texts` (an int, or a float's repr), as YAML would read it."""
+    return float(text) if any(c in text for c in ".en") else int(text)
 
 
 def _parse(option: str, text: str) -> Any:

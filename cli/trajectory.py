@@ -18,12 +18,14 @@ analysis:
 
 Frames are buffered in memory a block at a time and appended to resizable datasets chunked along time,
 so memory stays bounded whatever the run length. The file is written as `.NAME.tmp-PID` in the output
-folder and renamed when finished, so a half-written file never carries the final name.
+folder and renamed when finished, so a half-written file never carries the final name; it is flushed to a
+consistent state every RECOVERY_SECONDS, so that `rustycs recover` can save the frames of a killed run.
 """
 
 from __future__ import annotations
 
 import os
+import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -50,6 +52,8 @@ def open_trajectory(path: str | Path) -> h5py.File:
     """
     import h5py
 
+    from .trajectory_checks import damage
+
     path = Path(path)
     if not path.exists():
         raise UserError(f"{path}: no such file")
@@ -64,13 +68,22 @@ def open_trajectory(path: str | Path) -> h5py.File:
             raise UserError(f"{path}: not an HDF5 file (expected a rustycs trajectory .h5)") from None
         raise UserError(f"{path}: unreadable or corrupt HDF5 file ({err})") from None
     try:
-        problem = _foreign_reason(file)
-    except (OSError, KeyError, RuntimeError) as err:  # damaged metadata inside a readable file
+        problem = _foreign_reason(file) or damage(file)
+    except (OSError, KeyError, RuntimeError, ValueError, TypeError) as err:  # damaged metadata
         problem = f"corrupt HDF5 file ({err})"
     if problem:
         file.close()
-        raise UserError(f"{path}: {problem}")
+        raise UserError(f"{path}: {problem}{_temporary_hint(path)}")
     return file
+
+
+def _temporary_hint(path: Path) -> str:
+    """For the temporary file of a run: how to save its frames."""
+    from .output_files import TEMPORARY_NAME
+
+    if TEMPORARY_NAME.match(path.name):
+        return f"; it is the temporary file of a run: `rustycs recover {path}` saves its frames"
+    return ""
 
 
 def _has_hdf5_signature(path: Path) -> bool:
@@ -136,6 +149,7 @@ FLUSH_FRAMES = 4 * BLOCK_FRAMES  # the same when whole blocks are appended (`app
 CHUNK_FRAMES = BLOCK_FRAMES  # frames per chunk (a block fills whole chunks), fewer when a frame is large
 CHUNK_BYTES = 1 << 20  # so that a chunk fits h5py's default chunk cache
 CONTACT_CHUNK_ROWS = 4096
+RECOVERY_SECONDS = 5.0  # the temporary file is flushed to a consistent state this often (`rustycs recover`)
 
 
 @dataclass(frozen=True)
@@ -180,20 +194,6 @@ class Frame:
 def temporary_path(path: Path) -> Path:
     """Where an output is written before its atomic rename: hidden, same folder, unique per process."""
     return path.with_name(f".{path.name}.tmp-{os.getpid()}")
-
-
-def check_output_path(path: Path) -> None:
-    """Fail early (before simulating) when `path` cannot be written: missing or read-only folder.
-
-    A folder without any write permission bit counts as read-only even for root, who could write it.
-    """
-    folder = path.parent
-    if path.is_dir():
-        raise UserError(f"{path}: is a folder; give a file name such as {path / 'run.h5'}")
-    if not folder.is_dir():
-        raise UserError(f"{path}: output folder {folder} does not exist")
-    if not os.access(folder, os.W_OK | os.X_OK) or not folder.stat().st_mode & 0o222:
-        raise UserError(f"{path}: output folder {folder} is not writable")
 
 
 class _Growing:
@@ -293,6 +293,7 @@ class TrajectoryWriter:
         self.dt = float(world.dt)
         self.frames = 0
         self._file = h5py.File(self.temporary, "w")
+        self._saved = time.monotonic()
         try:
             self._write_static(world, names, materials, collision_groups, attractor_names, author,
                                scene_text, overrides)
@@ -430,12 +431,19 @@ class TrajectoryWriter:
         if whole > 0:
             for series in self._all_series():
                 series.flush(whole)
+            self._save_now_and_then()
 
     def _flush(self) -> None:
-        # no HDF5 flush per block: the file is a temporary until `finish` closes and renames it, so a
-        # flush would cost a millisecond per block and protect nothing
         for series in self._all_series():
             series.flush()
+        self._save_now_and_then()
+
+    def _save_now_and_then(self) -> None:
+        """Flush the file to disk every RECOVERY_SECONDS (not per block: that would cost a millisecond
+        each), so that the temporary of a killed run holds a consistent state to recover."""
+        if time.monotonic() - self._saved >= RECOVERY_SECONDS and self._file.id.valid:
+            self._file.flush()
+            self._saved = time.monotonic()
 
     def _all_series(self) -> list[_Growing]:
         found = [self._step, self._time, *self._series.values(), *self._observables.values(),
@@ -452,9 +460,8 @@ class TrajectoryWriter:
         try:
             self._flush()
             group = self._file["parameters"]
-            group.attrs.update({k: v for k, v in parameters.items() if v is not None})
-            statistics = group.create_group("summary", track_order=True)
-            statistics.attrs.update({k: v for k, v in summary.items() if v is not None})
+            _set_attrs(group, parameters)
+            _set_attrs(group.create_group("summary", track_order=True), summary)
             self._file.close()
             os.replace(self.temporary, self.path)
         except BaseException:
@@ -463,10 +470,27 @@ class TrajectoryWriter:
         return self.path
 
     def discard(self) -> None:
-        """Close and delete the temporary file (nothing is left under the final name)."""
-        if self._file.id.valid:
-            self._file.close()
-        self.temporary.unlink(missing_ok=True)
+        """Close and delete the temporary file (nothing is left under the final name), also when closing
+        fails (a full disk cannot take the last writes)."""
+        try:
+            if self._file.id.valid:
+                self._file.close()
+        except OSError:
+            pass
+        finally:
+            self.temporary.unlink(missing_ok=True)
+
+
+def _set_attrs(node: h5py.Group, values: dict[str, Any]) -> None:
+    """Store values as attributes, None left out; a value HDF5 cannot hold as it is (an integer beyond
+    64 bits) is stored as its text, so that the frames of a finished run are never lost over it."""
+    for key, value in values.items():
+        if value is None:
+            continue
+        try:
+            node.attrs[key] = value
+        except (TypeError, ValueError, OverflowError):
+            node.attrs[key] = str(value)
 
 
 def package_version() -> str:

@@ -78,8 +78,11 @@ def _travel(body, i, extent):
 def hold_back_passes(pair_keys, n_pairs, paired, bodies, shapes, geometry, body, dt, margin, sweep, scratch):
     """Sweep the candidate pairs that got no contact along the tick's paths of their bodies (those that
     moved more than `margin` relative to each other), and move each body held back by one (`_held_back`)
-    to the earliest time it touched one. A dynamic body that moved farther than its hitbox reached (a
-    collision sped it up) is swept against every static and kinematic shape its path passes. `scratch`
+    to the earliest time it touched one. A body that a collision sped up beyond its speculative reach is
+    swept against the shapes of its pairs with contacts too (another may have driven it through one
+    after it was solved), and, beyond its hitbox, against every static and kinematic shape its path
+    passes (sweeping every static shape already beyond the reach less the margin cost S5 a third of its
+    tick: every falling body gains g dt^2 on the speed it started with). `scratch`
     has two columns per body: the earliest fraction of the tick and the travel."""
     body_type, active, first, count, extent = (bodies.body_type, bodies.active, bodies.first_shape,
                                                bodies.shape_count, bodies.extent)
@@ -90,22 +93,24 @@ def hold_back_passes(pair_keys, n_pairs, paired, bodies, shapes, geometry, body,
         moved = moved or scratch[i, TRAVEL] > margin
     if not moved:
         return  # nothing moved far enough to pass anything (a pile at rest)
+    reach = geometry.reach
     for k in range(n_pairs):
-        if paired[k]:
-            continue  # the solver had its contact
         sa = pair_keys[k] >> SHAPE_BITS
         sb = pair_keys[k] & SHAPE_MASK
         a, b = shapes.body[sa], shapes.body[sb]
         hold_a, hold_b = _held_back(bodies, a, b), _held_back(bodies, b, a)
         if not (hold_a or hold_b) or scratch[a, TRAVEL] + scratch[b, TRAVEL] <= margin:
             continue
+        if paired[k] and (not hold_a or scratch[a, TRAVEL] <= reach[a] - margin) and (
+                not hold_b or scratch[b, TRAVEL] <= reach[b] - margin):
+            continue  # the solver had its contact, and nothing sped the body held back beyond it
         motion_a, motion_b = _tick_motion(bodies, body, a, dt), _tick_motion(bodies, body, b, dt)
         f = _sweep(shapes, sa, sb, motion_a, motion_b, dt, margin, sweep)
         if hold_a:
             scratch[a, EARLIEST] = min(scratch[a, EARLIEST], f)
         if hold_b:
             scratch[b, EARLIEST] = min(scratch[b, EARLIEST], f)
-    hitbox, reach = geometry.hitbox, geometry.reach
+    hitbox = geometry.hitbox
     for i in range(scratch.shape[0]):
         travel = scratch[i, TRAVEL]
         if body_type[i] != DYNAMIC or travel <= reach[i]:

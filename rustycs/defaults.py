@@ -9,6 +9,7 @@ from __future__ import annotations
 # World
 TICK_RATE = 60.0  # ticks per second
 PRECISION = 10  # solver substeps per tick
+MAX_PRECISION = 1000  # more substeps than this buy nothing and make one tick take minutes
 GRAVITATIONAL_CONSTANT = 1.0  # G of the attractors
 RESTITUTION_THRESHOLD = 1.0  # m/s: contacts approaching slower do not bounce (Box2D's default)
 MIN_DISTANCE = 0.01  # m: an attractor's softening, d is taken as max(d, min_distance)

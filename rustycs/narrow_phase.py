@@ -66,7 +66,7 @@ class Contacts(NamedTuple):
     manifolds: Manifolds
     points: Points
     count: np.ndarray  # int64 (2,): manifolds and points in use
-    paired: np.ndarray  # (capacity,) bool: whether candidate pair k got a manifold
+    paired: np.ndarray  # (capacity,) bool: whether candidate pair k got a manifold that holds it
     collision: Collision  # one pair's scratch
     sweep: Sweep  # one pair's scratch of the time of impact
 
@@ -178,18 +178,22 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, conta
         if count == 0:
             continue
         impact = 0.0
+        held = True  # the solver's points hold the pair through the tick
         gap = min(out.separations[0], out.separations[count - 1])
         if gap > LINEAR_SLOP:
             vx, vy = v[b, 0] - v[a, 0], v[b, 1] - v[a, 1]
             travel = dt * (math.sqrt(vx * vx + vy * vy) + abs(w[a]) * extent[a] + abs(w[b]) * extent[b])
-            # a pair that cannot close its gap in the tick keeps its points: they stay apart along the
-            # normal, so the solver never pushes them (a third of the pairs swept in S5)
-            if travel > margin and travel > gap:
+            if travel > gap and travel > margin:
                 impact, count = _swept_collision(bodies, shapes, sa, sb, dt, reach[a] + reach[b] - margin,
                                                  count, sweep, out)
                 if count == 0:
                     continue
-        paired[k] = True
+            elif travel > margin:
+                # it cannot close its gap moving as it starts: its points stay apart along the normal, so
+                # the solver never pushes them (a third of the pairs swept in S5). A blow in mid-tick may
+                # yet drive it together: swept along the paths taken (`continuous`), as if it had none.
+                held = False
+        paired[k] = held
         swap = count == 2 and out.ids[0] > out.ids[1]
         nx, ny = out.normal[0], out.normal[1]
         m_shape_a[n_man] = sa

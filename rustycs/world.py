@@ -75,10 +75,10 @@ class World(BodyControl, WorldQueries, WorldScenario):
                  gravitational_constant: float = defaults.GRAVITATIONAL_CONSTANT, bounds=None,
                  restitution_threshold: float = defaults.RESTITUTION_THRESHOLD):
         ensure_fresh()  # before any kernel runs: a cache compiled from other sources is dropped
-        if not tick_rate > 0:
-            raise ValueError("tick_rate must be > 0")
-        if int(precision) < 1:
-            raise ValueError("precision must be >= 1")
+        if not 0 < tick_rate < math.inf:
+            raise ValueError("tick_rate must be finite and > 0")
+        if not 1 <= int(precision) <= defaults.MAX_PRECISION:
+            raise ValueError(f"precision must be from 1 to {defaults.MAX_PRECISION}")
         self.tick_rate = float(tick_rate)
         self.dt = 1.0 / self.tick_rate
         self.precision = int(precision)

@@ -9,6 +9,7 @@ from pathlib import Path
 import typer
 
 from ..errors import UserError
+from ..output_files import inside
 
 NAME = "run"
 
@@ -30,6 +31,8 @@ def command(
     contacts: bool = typer.Option(None, "--contacts/--no-contacts",
                                   help="Record contact points (default: output.contacts)."),
     compress: bool = typer.Option(False, "--compress", help="Compress the datasets (gzip with shuffle)."),
+    allow_full_disk: bool = typer.Option(False, "--allow-full-disk",
+                                         help="Run even when the output looks larger than the free disk."),
 ) -> None:
     """Simulate a scene and write its trajectory (HDF5) and summary (table, JSON sidecar).
 
@@ -38,20 +41,21 @@ def command(
 
     Example: rustycs run scenes/material_bounce.yaml --ticks 1200 -s world.precision=20 --out bounce.h5
     """
-    from ..simulation import load_source, run_scene
+    from ..simulation import check_run_options, load_source, run_scene
     from ..summary import summary_table, to_json
 
     started = time.perf_counter()
     try:
         if ticks is not None and duration is not None:
             raise UserError("give --ticks or --duration, not both")
+        check_run_options(ticks, every)
         loaded = load_source(scene, tuple(overrides), seed)
         if duration is not None:
             ticks = round(duration * loaded.scene.world.tick_rate)
         target = out if out is not None else _default_output(loaded.scene.name, scene)
         result = run_scene(loaded, target, ticks, every, contacts,
                            progress=sys.stderr.isatty() and not quiet, compress=compress, quiet=quiet,
-                           started=started)
+                           started=started, allow_full_disk=allow_full_disk)
     except KeyboardInterrupt:  # before the run installed its own handler
         print("rustycs: interrupted", file=sys.stderr)
         raise typer.Exit(130) from None
@@ -73,7 +77,7 @@ def _default_output(name: str, source: Path) -> Path:
         folder.mkdir(exist_ok=True)
     except OSError as err:
         raise UserError(f"{folder}: cannot create the output folder ({err.strerror})") from None
-    path = folder / f"{name}.h5"
+    path = inside(folder, name, ".h5")
     if path.exists() and source.exists() and path.samefile(source):
-        path = folder / f"{name}-rerun.h5"
+        path = inside(folder, f"{name}-rerun", ".h5")
     return path

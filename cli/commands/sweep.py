@@ -56,6 +56,9 @@ def command(
     as_json: bool = typer.Option(
         False, "--json", help="Print the rows (as in sweep.json) on stdout, nothing else."
     ),
+    allow_full_disk: bool = typer.Option(
+        False, "--allow-full-disk", help="Run even when the outputs look larger than the free disk."
+    ),
 ) -> None:
     """Run a scene over a grid of parameter values, one trajectory per variant.
 
@@ -89,7 +92,7 @@ def command(
     show = not (quiet or as_json)
     with variant_progress(not quiet, len(plan.variants), f"sweep {plan.scene_name}") as on_outcome:
         result = run_sweep(plan, workers or default_workers(), scheduler, on_outcome, quiet=quiet,
-                           local=local)
+                           local=local, allow_full_disk=allow_full_disk)
     if as_json:
         print(to_json(result.rows()))
     elif show:

@@ -9,6 +9,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from ..errors import UserError
+from ..output_files import refuse_special
 
 
 def check_suffix(out: Path, formats: tuple[str, ...], kind: str) -> str:
@@ -27,6 +28,7 @@ def atomic_output(target: str | Path) -> Iterator[Path]:
     rename it to `target` when the block succeeds and delete it otherwise, so a failed or interrupted
     render never leaves a half-written file under the final name."""
     target = Path(target)
+    refuse_special(target)
     folder = target.parent
     try:
         folder.mkdir(parents=True, exist_ok=True)

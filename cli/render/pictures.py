@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import UserError
+from ..limits import MAX_TICKS
 from .bodies import RunInfo, load_run
 from .output import atomic_output, check_suffix
 from .raster import Overlays
@@ -58,8 +59,8 @@ def render(request: RenderRequest) -> RenderResult:
         )
     if not (math.isfinite(request.fps) and 0 < request.fps <= 240):
         raise UserError(f"--fps {request.fps}: must be between 0 and 240 frames per second")
-    if request.every is not None and request.every < 1:
-        raise UserError(f"--every {request.every}: must be 1 or more")
+    if request.every is not None and not 1 <= request.every <= MAX_TICKS.value:
+        raise UserError(f"--every {request.every}: must be from 1 to {MAX_TICKS}")
     width, height = parse_size(request.size)
     if suffix == ".mp4":  # H.264 in yuv420p needs even sizes
         width, height = width + width % 2, height + height % 2

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import UserError
+from ..limits import MAX_VIEW, MIN_LENGTH
 from .bodies import BODIES, RunInfo
 from .geometry import body_hitboxes
 
@@ -88,6 +89,10 @@ def parse_box(text: str, option: str = "--view") -> Box:
         ) from None
     if not all(math.isfinite(v) for v in (xmin, ymin, xmax, ymax)) or xmin >= xmax or ymin >= ymax:
         raise UserError(f"{option} {text!r}: need finite numbers with XMIN < XMAX and YMIN < YMAX")
+    too_small = min(xmax - xmin, ymax - ymin) < MIN_LENGTH.value
+    if max(map(abs, (xmin, ymin, xmax, ymax))) > MAX_VIEW.value or too_small:
+        raise UserError(f"{option} {text!r}: the view must lie within +-{MAX_VIEW} and be at least "
+                        f"{MIN_LENGTH} wide and high")
     return (xmin, ymin, xmax, ymax)
 
 
@@ -118,7 +123,9 @@ def fit_box(file: h5py.File, run: RunInfo) -> Box:
                                           *joints, np.zeros((0, 2))])
     if len(points) == 0:
         return (-5.0, -5.0, 5.0, 5.0)
-    low, high = points.min(axis=0), points.max(axis=0)
+    # bodies that flew to 1e300 m: the view stays where a picture can be drawn
+    low = np.maximum(points.min(axis=0), -MAX_VIEW.value)
+    high = np.minimum(points.max(axis=0), MAX_VIEW.value)
     span = np.maximum(high - low, MIN_SPAN)
     centre = (low + high) / 2
     half = span * (0.5 + MARGIN)
