@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from .build_joints import add_joints
 from .scene import Aabb, Body, Capsule, Chain, Circle, Material, MaterialRef, Obb, Polygon, Scene, Segment
 
 if TYPE_CHECKING:
@@ -55,6 +56,7 @@ def build_world(scene: Scene, plan: RunPlan | None = None) -> rustycs.World:
         )
     for index, body in enumerate(scene.bodies):
         _add_body(world, scene, body, **(plan.timing(index) if plan else {}))
+    add_joints(world, scene)
     return world
 
 

@@ -171,9 +171,12 @@ def _expand(scene: Scene, locate: _Locator) -> Scene:
 
 
 def _resolved_text(scene: Scene) -> str:
-    """The scene as YAML: complete settings, and bodies without the fields left at their defaults."""
-    data = scene.model_dump(mode="json", exclude={"generators", "bodies"})
+    """The scene as YAML: complete settings, and bodies and joints without the fields left at their
+    defaults."""
+    data = scene.model_dump(mode="json", exclude={"generators", "bodies", "joints"})
     data["bodies"] = [body.model_dump(mode="json", exclude_defaults=True) for body in scene.bodies]
+    if scene.joints:  # a scene without joints resolves to the same text as before joints existed
+        data["joints"] = [joint.model_dump(mode="json", exclude_defaults=True) for joint in scene.joints]
     data["output"] = data.pop("output")
     return dump_scene_yaml(data, RESOLVED_HEADER)
 
@@ -256,13 +259,13 @@ class _Locator:
         if kind == "extra_forbidden":
             fields = self._fields_at(self._data_path(loc)[:-1])
             return loc, f"unknown key '{loc[-1]}'{did_you_mean(str(loc[-1]), fields)}", True
-        if kind == "shape" and isinstance(value, dict):
+        if kind in ("shape", "joint") and isinstance(value, dict):
             tags = union_tags(self._annotation_at(self._data_path(loc)))
             kind_value = value.get("type")
             if kind_value is None:
                 return loc, f"missing key 'type' (one of: {', '.join(tags)})", False
             hint = did_you_mean(str(kind_value), tags)
-            message = f"unknown shape type '{kind_value}'{hint}; expected one of: {', '.join(tags)}"
+            message = f"unknown {kind} type '{kind_value}'{hint}; expected one of: {', '.join(tags)}"
             return (*loc, "type"), message, False
         message = "expected a list of two values, like [x, y]" if kind == "tuple_type" else error["msg"]
         if isinstance(value, (int, float, str, bool)) and kind not in ("polygon", "aabb_angle", "rect"):

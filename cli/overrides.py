@@ -1,10 +1,10 @@
 """`--set KEY=VALUE`: change the raw scene data before validation.
 
 KEY is a dotted path; list items are chosen by index or, in the named lists, by name (bodies also by
-their default name '<shape type>-<index>'). VALUE is parsed as YAML. A key exists when the data has it,
-when the scene format declares it at that place (so defaults such as `output.every` can be set without
-being written), or when it names a preset material under `materials`. Anything else is an error that
-names the key, with a suggestion for near misses.
+their default name '<shape type>-<index>', joints by '<type>-<index>'). VALUE is parsed as YAML. A key
+exists when the data has it, when the scene format declares it at that place (so defaults such as
+`output.every` can be set without being written), or when it names a preset material under
+`materials`. Anything else is an error that names the key, with a suggestion for near misses.
 """
 
 from __future__ import annotations
@@ -26,9 +26,10 @@ from .scene import (
     model_fields_at,
     written_default_body_name,
 )
+from .scene_joints import default_joint_name
 from .yaml_source import Path, parse_value
 
-NAMED_LISTS = ("bodies", "forces", "attractors", "generators", "emitters", "sinks", "measures")
+NAMED_LISTS = ("bodies", "forces", "attractors", "generators", "joints", "emitters", "sinks", "measures")
 
 
 @dataclass(frozen=True)
@@ -149,7 +150,8 @@ def _list_index(items: list[Any], part: str, path: list[str | int], shown: list[
 
 
 def _item_names(list_name: str, items: list[Any]) -> list[str]:
-    """Each item's name as overrides know it: its `name`, or the default name of a body or generator."""
+    """Each item's name as overrides know it: its `name`, or the default name of a body, generator or
+    joint."""
     names = []
     for i, item in enumerate(items):
         item = item if isinstance(item, dict) else {}
@@ -158,5 +160,7 @@ def _item_names(list_name: str, items: list[Any]) -> list[str]:
             name = default_generator_name(i)
         elif name is None and list_name == "bodies":
             name = written_default_body_name(item, i)
+        elif name is None and list_name == "joints":
+            name = default_joint_name(item.get("type"), i)
         names.append(str(name) if name is not None else "")
     return names

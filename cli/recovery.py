@@ -42,6 +42,7 @@ def recover(temporary: Path) -> tuple[Path, dict[str, Any]]:
 
 def _truncate(file: Any) -> dict[str, Any]:
     """Cut every series to the frames all of them hold, and mark the run interrupted."""
+    import numpy as np
     import yaml
 
     series = [item for name, item in _datasets(file) if name.endswith("/value") or name.endswith("/step")
@@ -59,6 +60,10 @@ def _truncate(file: Any) -> dict[str, Any]:
             if name != "offset":
                 file["contacts"][name].resize(rows, axis=0)
     last = int(file[f"{FRAMES}/step"][frames - 1])
+    if "events/tick" in file:  # in tick order: those after the last saved frame go
+        kept = int(np.searchsorted(file["events/tick"][()], last, side="right"))
+        for name in file["events"]:
+            file["events"][name].resize(kept, axis=0)
     scene = yaml.safe_load(file["parameters/scene"].asstr()[()]) or {}
     summary = {"scene": scene.get("name"), "status": "interrupted", "ticks": last, "frames": frames,
                "recovered": True}
@@ -79,7 +84,7 @@ def _datasets(file: Any) -> list[tuple[str, Any]]:
 
     def visit(name: str, item: Any) -> None:
         if isinstance(item, h5py.Dataset) and item.maxshape and item.maxshape[0] is None \
-                and not name.startswith("contacts/"):
+                and not name.startswith(("contacts/", "events/")):
             found.setdefault(item.id, (name, item))
 
     file.visititems(visit)

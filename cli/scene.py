@@ -74,6 +74,9 @@ from .scene_types import (
     VelocityPair,
 )
 
+if typing.TYPE_CHECKING:
+    from .scene_joints import Joint
+
 Loc = tuple[str | int, ...]
 Problem = tuple[Loc, str]
 
@@ -1282,6 +1285,11 @@ class Scene(_Model):
             ]
         ],
     )
+    joints: list[Joint] = Field(
+        [],
+        description="Joints between bodies, or a body and the fixed world (see docs/joints.md).",
+        examples=[[{"name": "hinge", "type": "revolute", "body": "arm", "anchor": [0, 2]}]],
+    )
     emitters: list[Emitter] = EMITTERS_FIELD
     sinks: list[Sink] = SINKS_FIELD
     measures: list[Measure] = MEASURES_FIELD
@@ -1299,11 +1307,14 @@ class Scene(_Model):
         for i, generator in enumerate(self.generators):
             if generator.name is None:
                 generator.name = default_generator_name(i)
+        for j, joint in enumerate(self.joints):
+            if joint.name is None:
+                joint.name = scene_joints.default_joint_name(joint.type, j)
         return self
 
     @model_serializer(mode="wrap")
     def _written_when_used(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
-        return _without_unused(handler(self), emitters=[], sinks=[], measures=[])
+        return _without_unused(handler(self), joints=[], emitters=[], sinks=[], measures=[])
 
     def material_of(self, body: Body) -> Material:
         """The material a body uses (user materials take precedence over presets)."""
@@ -1392,7 +1403,19 @@ def scene_problems(data: Mapping[str, Any]) -> list[Problem]:
                 if isinstance(shape, dict):
                     at = (*place, "choice", k) if shape is not spec else place
                     check_generated_material(shape.get("material"), ("generators", g, *at, "material"))
-    return problems + measure_problems(data, body_names, generator_names)
+    generated = _generated_names(entries("generators"))
+    return (problems + measure_problems(data, body_names, generator_names)
+            + scene_joints.joint_problems(data, [*body_names, *generated]))
+
+
+def _generated_names(generators: list[tuple[int, dict[str, Any]]]) -> list[str]:
+    """The names of the bodies of the generators that give their `count`, as written."""
+    return [
+        f"{generator.get('name', default_generator_name(g))}-{i}"
+        for g, generator in generators
+        if isinstance(generator.get("count"), int)
+        for i in range(generator["count"])
+    ]
 
 
 def _choices(spec: Any) -> list[Any]:
@@ -1471,3 +1494,6 @@ def union_tags(annotation: Any) -> list[str]:
         for m in getattr(member, "__metadata__", ())
         if isinstance(m, Tag)
     ]
+
+
+from . import scene_joints  # noqa: E402 (the joint models build on the above and complete Scene)

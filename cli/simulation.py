@@ -87,6 +87,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
         TrajectoryWriter,
         package_version,
     )
+    from .trajectory_joints import joint_drawing
 
     started = time.perf_counter() if started is None else started
     ticks = loaded.scene.world.run_ticks if ticks is None else ticks
@@ -114,7 +115,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
             collision_groups=[body.collision_group for body in scene.bodies],
             attractor_names=[a.name or f"attractor-{k}" for k, a in enumerate(scene.attractors)],
             author="unknown", scene_text=loaded.text, overrides=loaded.overrides,
-            contacts=contacts, compress=compress)
+            contacts=contacts, compress=compress, joints=joint_drawing(scene))
         with writer, _progress_bar(progress, ticks, scene.name) as advance:
             # the engine records a block of frames per call, with no Python per tick; with contacts,
             # one frame per call (the contacts are the world's last tick's)
@@ -147,6 +148,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
                                 else world.step(count))
                 except rustycs.SimulationDiverged as err:
                     step_seconds += time.perf_counter() - begin
+                    writer.events.append(world.events())
                     record(err.frames)
                     status = "diverged"
                     message = _divergence_message(err, names, tracker.last.tick if tracker.last else 0, out)
@@ -154,6 +156,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
                 elapsed = time.perf_counter() - begin
                 step_seconds += elapsed
                 pace.took(count, elapsed)
+                writer.events.append(world.events())
                 record(recorded)
                 advance(count)
                 if world.stop_condition is not None:

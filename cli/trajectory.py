@@ -1,7 +1,7 @@
 """HDF5 trajectory files (H5MD 1.1, dimension 2): writing a run frame by frame, and reading one back.
 
-The layout is the spec's (trajectory-format.md), /shapes written by `shape_table`; /joints and /events
-have zero rows until the engine has joints and events. Additions beyond the spec, for the renderer and
+The layout is the spec's (trajectory-format.md), /shapes written by `shape_table`, the joint table by
+`trajectory_joints` and /events by `trajectory_events`. Additions beyond the spec, for the renderer and
 analysis:
 
     /particles/bodies/local_center    float64 [N, 2]    the centre of mass in the body's frame, about its
@@ -31,6 +31,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from .errors import UserError
+from .trajectory_events import EventWriter
+from .trajectory_joints import FRAME_FIELDS, JOINT_SERIES, JointDrawing, frame_joints, write_joint_table
 
 if TYPE_CHECKING:  # imported lazily at run time, so that `rustycs --help` stays fast
     import h5py
@@ -142,20 +144,6 @@ CONTACT_FIELDS = {  # name: (row shape, dtype, unit); [C, *shape]
     "depth": ((), "f8", "m"),
     "normal_impulse": ((), "f8", "N s"),
 }
-JOINT_SERIES = {  # name: (per-joint row shape, dtype, unit); value [T, J, *shape]
-    "reaction_force": ((2,), "f8", "N"),
-    "reaction_torque": ((), "f8", "N m"),
-    "active": ((), "bool", None),
-}
-EVENT_FIELDS = {  # name: (row shape, dtype, unit); [E, *shape]
-    "tick": ((), "i8", None),
-    "time": ((), "f8", "s"),
-    "kind": ((), "str", None),
-    "body_a": ((), "i4", None),
-    "body_b": ((), "i4", None),
-    "point": ((2,), "f8", "m"),
-    "speed": ((), "f8", "m s-1"),
-}
 BLOCK_FRAMES = 64  # frames held in memory before they are appended to the file
 FLUSH_FRAMES = 4 * BLOCK_FRAMES  # the same when whole blocks are appended (`append_block`)
 CHUNK_FRAMES = BLOCK_FRAMES  # frames per chunk (a block fills whole chunks), fewer when a frame is large
@@ -176,6 +164,7 @@ class Frame:
     active: np.ndarray
     observables: dict[str, Any]
     contacts: dict[str, np.ndarray] | None
+    joints: dict[str, np.ndarray] | None = None  # JOINT_SERIES by name, per joint
 
     @classmethod
     def capture(cls, world: Any, contacts: bool) -> Frame:
@@ -198,6 +187,7 @@ class Frame:
             # copies: the buffer's rows are overwritten by the next block (the momentum is a view)
             observables={name: frames[name][row].copy() for name in (*OBSERVABLES, "max_speed")},
             contacts=contacts,
+            joints=frame_joints(frames, row),
         )
 
 
@@ -292,7 +282,8 @@ class TrajectoryWriter:
 
     def __init__(self, path: Path, world: Any, *, names: list[str], materials: list[str],
                  shape_materials: list[str], collision_groups: list[int], attractor_names: list[str],
-                 author: str, scene_text: str, overrides: tuple[str, ...], contacts: bool, compress: bool):
+                 author: str, scene_text: str, overrides: tuple[str, ...], contacts: bool, compress: bool,
+                 joints: JointDrawing | None = None):
         import h5py
 
         from .shape_table import shape_table, write_shapes
@@ -307,9 +298,10 @@ class TrajectoryWriter:
             self._write_static(world, names, materials, collision_groups, attractor_names, author,
                                scene_text, overrides)
             write_shapes(self._file, shape_table(world, shape_materials))
-            _write_empty_events(self._file)
+            self.events = EventWriter(self._file, self.dt)
+            table = write_joint_table(self._file, world, joints)
             self._create_series(world.body_count, contacts,
-                                {"compression": "gzip", "shuffle": True} if compress else {})
+                                {"compression": "gzip", "shuffle": True} if compress else {}, table)
         except BaseException:
             self.discard()
             raise
@@ -361,9 +353,8 @@ class TrajectoryWriter:
         parameters.create_dataset("scene", data=scene_text, dtype=text)
         parameters.create_dataset("overrides", data=np.array(list(overrides), dtype=object), dtype=text)
 
-    def _create_series(self, body_count: int, contacts: bool, options: dict[str, Any]) -> None:
-        import h5py
-
+    def _create_series(self, body_count: int, contacts: bool, options: dict[str, Any],
+                       joints: h5py.Group) -> None:
         file = self._file
         position = file.create_group("particles/bodies/position")
         chunk = _chunk_frames(body_count * 16)
@@ -380,15 +371,13 @@ class TrajectoryWriter:
             group = file.create_group(f"observables/{name}")
             group["step"], group["time"] = self._step.dataset, self._time.dataset
             self._observables[name] = _Growing(group, "value", shape, dtype, CHUNK_FRAMES * 4, options, unit)
-        joints = file.create_group("joints")
-        text = h5py.string_dtype()
-        for name, dtype in (("name", text), ("type", text), ("body_a", "i4"), ("body_b", "i4")):
-            joints.create_dataset(name, shape=(0,), dtype=dtype)
+        joint_count = len(joints["name"])
         self._joints: dict[str, _Growing] = {}
         for name, (shape, dtype, unit) in JOINT_SERIES.items():
             group = joints.create_group(name)
             group["step"], group["time"] = self._step.dataset, self._time.dataset
-            self._joints[name] = _Growing(group, "value", (0, *shape), dtype, CHUNK_FRAMES * 4, options, unit)
+            self._joints[name] = _Growing(group, "value", (joint_count, *shape), dtype,
+                                          _chunk_frames(joint_count * 16), options, unit)
         self._contacts: dict[str, _Growing] | None = None
         if contacts:
             group = file.create_group("contacts")
@@ -409,8 +398,8 @@ class TrajectoryWriter:
             series.append(getattr(frame, name))
         for name, series in self._observables.items():
             series.append(frame.observables[name])
-        for series in self._joints.values():
-            series.extend(series.empty_rows(1))
+        for name, series in self._joints.items():
+            series.append(frame.joints[name] if frame.joints is not None else series.empty_rows(1)[0])
         if self._contacts is not None:
             if frame.contacts is None:
                 raise ValueError("this trajectory records contacts: capture frames with contacts=True")
@@ -432,8 +421,8 @@ class TrajectoryWriter:
         self._time.extend(ticks * self.dt)
         for name, series in (*self._series.items(), *self._observables.items()):
             series.extend(frames[name][:count])
-        for series in self._joints.values():
-            series.extend(series.empty_rows(count))
+        for name, series in self._joints.items():
+            series.extend(frames[FRAME_FIELDS[name]][:count])
         self.frames += count
         # whole multiples of FLUSH_FRAMES only, so that each write fills whole chunks (a run's first frame
         # comes alone) and HDF5 is called a few times per 256 frames
@@ -502,19 +491,6 @@ def _set_attrs(node: h5py.Group, values: dict[str, Any]) -> None:
             node.attrs[key] = value
         except (TypeError, ValueError, OverflowError):
             node.attrs[key] = str(value)
-
-
-def _write_empty_events(file: h5py.File) -> None:
-    """/events with zero rows: the spec's paths exist in every file, so readers need no special case
-    (the engine reports no events yet)."""
-    import h5py
-
-    events = file.create_group("events")
-    for name, (shape, dtype, unit) in EVENT_FIELDS.items():
-        dataset = events.create_dataset(name, shape=(0, *shape),
-                                        dtype=h5py.string_dtype() if dtype == "str" else dtype)
-        if unit:
-            dataset.attrs["unit"] = unit
 
 
 def package_version() -> str:

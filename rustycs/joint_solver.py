@@ -121,6 +121,15 @@ def _anchor(body, x, i, f, cx, cy):
 
 
 @njit(cache=True, inline="always")
+def anchor_point(bodies, joints, j):
+    """The world point of joint j's anchor on its second body (where its joint_break event is placed)."""
+    b = joints.body_b[j]
+    rx, ry = _turned(math.cos(bodies.angle[b]), math.sin(bodies.angle[b]), joints.local_b[j, 0],
+                     joints.local_b[j, 1])
+    return bodies.x[b, 0] + rx, bodies.x[b, 1] + ry
+
+
+@njit(cache=True, inline="always")
 def _rotation(body, i):
     return (1.0, 0.0) if i < 0 else (body[i, COS], body[i, SIN])
 

@@ -42,7 +42,16 @@ from rustycs.continuous import SCRATCH_COLUMNS, hold_back_passes
 from rustycs.events import JOINT_BREAK, Events, grown_events, new_events, record_event
 from rustycs.geometry import Geometry, new_geometry, update_geometry
 from rustycs.impacts import keep_velocities, resolve_impacts
-from rustycs.joint_solver import FRAME_COLUMNS, RELAX, SOLVE, WARM, break_joints, joints_pass, prepare_joints
+from rustycs.joint_solver import (
+    FRAME_COLUMNS,
+    RELAX,
+    SOLVE,
+    WARM,
+    anchor_point,
+    break_joints,
+    joints_pass,
+    prepare_joints,
+)
 from rustycs.motion import (
     apply_bounds,
     damp,
@@ -233,7 +242,8 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
                          SPECULATIVE_DISTANCE, contacts.sweep, held_back)
         remember(contacts.points, n_pts, cache)
         for k in range(break_joints(bodies, body, joints, joint_frames, h, broken)):
-            record_event(events, tick, JOINT_BREAK, broken[k], -1, 0.0, 0.0, 0.0)
+            px, py = anchor_point(bodies, joints, broken[k])
+            record_event(events, tick, JOINT_BREAK, broken[k], -1, px, py, 0.0)
             pairs.count[0] = -1  # the joint no longer keeps its bodies apart
         bad = first_non_finite(bodies)
         if bad >= 0:

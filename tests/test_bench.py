@@ -346,7 +346,7 @@ def test_scene_ids_in_any_case_and_compounds_only_when_named():
 
 
 @pytest.mark.parametrize("shape, what", [
-    ("{type: capsule, length: 1, radius: 0.2}", "a capsule"),
+    ("{type: chain, points: [[0, 0], [1, 0], [2, 1]]}", "a chain"),
     ("{type: circle, radius: 0.5, sensor: true}", "a sensor"),
     ("{type: polygon, vertices: [[0, 0], [2, 0], [1, 0.5], [1, 2]]}", "a concave or > 8-vertex polygon"),
 ])
@@ -356,4 +356,4 @@ def test_shapes_the_peers_would_build_otherwise_are_refused(shape: str, what: st
     with pytest.raises(UserError) as raised:
         describe(scene, build_world(scene))
     assert raised.value.messages == [f"odd: body 'odd' has {what}; the peer engines are given only circle, "
-                                     "aabb, obb, polygon and segment shapes"]
+                                     "aabb, obb, polygon, capsule and segment shapes"]

@@ -295,3 +295,15 @@ def test_four_columns_of_hinged_boxes_with_limits_and_springs_are_bitwise_the_sa
                                          check=True).stdout)
     assert np.array_equal(first, other)
     assert np.all(np.isfinite(first))
+
+
+def test_a_breaking_joint_records_its_anchor_as_the_events_point():
+    """A box hinged at its left edge, at (2, 3), to a hinge far too weak to hold it breaks in the first
+    tick; its event is placed at the hinge, not at the origin or the box's centre."""
+    world = gravity_world()
+    box = world.add_body(Box(1.0, 0.2), position=(2.5, 3.0), material=DENSE)
+    world.add_revolute(None, box, (2.0, 3.0), break_force=1e-3)
+    world.step(1)
+    events = world.events()
+    assert list(events["kind"]) == ["joint_break"]
+    assert events["point"][0] == pytest.approx((2.0, 3.0), abs=1e-3)  # it fell g dt^2 = 1.7e-4 m

@@ -1,5 +1,5 @@
 """The peer engines, pymunk 7 and Box2D v3 (pyb2d3), building the bodies of a BenchScene, each of its
-shapes (circles, polygons, segments) on one peer body.
+shapes (circles, polygons, capsules, segments) on one peer body, and its joints (`peer_joints`).
 
 Settings follow the peer harness (../shared/bench/peers), so that our numbers can be put next to its:
 pymunk: 10 iterations, collision_slop 0.005 m, no sleeping, no damping; pyb2d3: 4 substeps, sleeping
@@ -23,6 +23,7 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+from .peer_joints import add_box2d_joints, add_pymunk_joints
 from .spec import BenchScene, BodySpec, ShapeSpec
 
 PYMUNK_ITERATIONS = 10
@@ -107,6 +108,7 @@ class PymunkWorld:
         self.bodies: list[Any] = []
         for spec in scene.bodies:
             self.bodies.append(self._add(pymunk, spec))
+        add_pymunk_joints(space, self.bodies, scene.bodies, scene.joints)
         moving = [(b, b.mass) for b, spec in zip(self.bodies, scene.bodies, strict=True)
                   if spec.body_type == "dynamic"]
 
@@ -139,8 +141,8 @@ class PymunkWorld:
             points = _world_points(spec, part) if static else list(part.points)
             if part.kind == "circle":
                 shape = pymunk.Circle(body, part.radius, offset=points[0])
-            elif part.kind == "segment":
-                shape = pymunk.Segment(body, points[0], points[1], 0.0)
+            elif part.kind in ("segment", "capsule"):  # a capsule is a segment with a radius
+                shape = pymunk.Segment(body, points[0], points[1], part.radius)
             else:
                 shape = pymunk.Poly(body, points, radius=0.0)
             if spec.body_type == "dynamic" and not spec.fixed_rotation and part.mass > 0:
@@ -169,6 +171,7 @@ class Box2DWorld:
         world.sleeping_enabled = False
         self.world = world
         self.bodies = [self._add(b2, spec) for spec in scene.bodies]
+        add_box2d_joints(world, self.bodies, scene.joints)
         moving = [(b, b.mass) for b, spec in zip(self.bodies, scene.bodies, strict=True)
                   if spec.body_type == "dynamic"]
 
@@ -199,6 +202,8 @@ class Box2DWorld:
                 body.create_circle_shape(shape, b2.circle(center=part.points[0], radius=part.radius))
             elif part.kind == "segment":
                 body.create_segment_shape(shape, b2.segment(*part.points))
+            elif part.kind == "capsule":
+                body.create_capsule_shape(shape, b2.capsule(*part.points, part.radius))
             else:
                 body.create_polygon_shape(shape, b2.polygon(points=list(part.points)))
         return body

@@ -23,6 +23,8 @@ METRICS: dict[str, tuple[str, ...]] = {
     "S5": ("max_overlap", "escaped"),
     "S6": ("mean_radius_drift", "max_radius_drift"),
     "compounds": ("max_overlap", "escaped"),
+    "joint_grid": ("max_joint_gap",),
+    "ragdoll_rain": ("max_joint_gap",),
     "shower": ("max_overlap", "outside"),
     "scaling": ("max_overlap", "escaped"),
 }
@@ -42,6 +44,8 @@ def measure(metrics: tuple[str, ...] | list[str], scene: BenchScene, start: np.n
             out[name] = deepest_overlap(scene, end, alive)
         elif name == "escaped":
             out[name] = escaped(scene, end, alive)
+        elif name == "max_joint_gap":
+            out[name] = max_joint_gap(scene, end)
         elif name == "outside":
             out[name] = outside(scene, end, alive)
         elif name in ("mean_radius_drift", "max_radius_drift"):
@@ -50,6 +54,23 @@ def measure(metrics: tuple[str, ...] | list[str], scene: BenchScene, start: np.n
         else:
             raise ValueError(f"unknown quality measure {name!r}")
     return out
+
+
+def max_joint_gap(scene: BenchScene, poses: np.ndarray) -> float:
+    """How far the joints came apart, m: the largest distance between a revolute joint's two anchors, or
+    between a distance joint's length and its anchors' distance. Static bodies are where the scene put
+    them (pymunk reports its one static body for them all)."""
+    fixed = {i: np.array([*body.position, body.angle]) for i, body in enumerate(scene.bodies)
+             if body.body_type == "static"}
+    worst = 0.0
+    for joint in scene.joints:
+        ends = []
+        for body, local in ((joint.body_a, joint.anchor_a), (joint.body_b, joint.anchor_b)):
+            pose = np.zeros(3) if body < 0 else fixed[body] if body in fixed else poses[body]
+            ends.append(_place(np.array([local]), pose)[0])
+        gap = float(np.hypot(*(ends[1] - ends[0])))
+        worst = max(worst, abs(gap - joint.length) if joint.kind == "distance" else gap)
+    return worst
 
 
 def radius_drift(scene: BenchScene, start: np.ndarray, end: np.ndarray) -> np.ndarray:

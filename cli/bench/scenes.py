@@ -12,6 +12,8 @@ DEFAULT_IDS = ("S1", "S2", "S3", "S4", "S5", "S6")  # run when no scene is named
 SCENE_FILES = {  # id: the file pattern in the bench folder
     **{scene_id: f"{scene_id}_*.yaml" for scene_id in DEFAULT_IDS},
     "compounds": "compounds.yaml",  # Box2D v3's compounds: 3000 bodies of two triangles, only when named
+    "joint_grid": "joint_grid.yaml",  # Box2D v3's joint grid: 19,800 revolute joints, only when named
+    "ragdoll_rain": "ragdoll_rain.yaml",  # 100 of Box2D's ragdolls, only when named
     "shower": "shower.yaml",  # 500 bullets at 100-300 m/s in a box of 2 cm walls, only when named
 }
 SCALING_SIZES = (1000, 4000, 16000)

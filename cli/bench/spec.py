@@ -4,7 +4,7 @@ The geometry, masses and initial state are read from a freshly built rustycs Wor
 polygon placement and mass overrides are exactly what rustycs simulates); materials and collision
 groups come from the scene model, which the World does not expose. A body is made of one shape or
 several; the peers build what all three engines have alike: circles, boxes and convex polygons of at
-most 8 vertices, and segments.
+most 8 vertices, capsules and segments, and revolute and rigid distance joints (`spec_joints`).
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ..errors import UserError
+from .spec_joints import JointSpec, describe_joints
 
 if TYPE_CHECKING:
     import rustycs
@@ -22,17 +23,17 @@ if TYPE_CHECKING:
     from ..scene import Scene
 
 Vec = tuple[float, float]
-PEER_SHAPES = ("circle", "aabb", "obb", "polygon", "segment")
+PEER_SHAPES = ("circle", "aabb", "obb", "polygon", "capsule", "segment")
 
 
 @dataclass(frozen=True)
 class ShapeSpec:
     """One shape of a body in its body's frame, about the body origin."""
 
-    kind: str  # circle | polygon (boxes too: their four corners) | segment
-    points: tuple[Vec, ...]  # a circle's centre, a polygon's corners, a segment's two ends
+    kind: str  # circle | polygon (boxes too: their four corners) | capsule | segment
+    points: tuple[Vec, ...]  # a circle's centre, a polygon's corners, a capsule's or a segment's two ends
     centre: Vec  # its area centroid (a segment's midpoint)
-    radius: float  # circles, else 0
+    radius: float  # circles and capsules, else 0
     mass: float  # kg: its share of its body's mass (0 on static and kinematic bodies, and for segments)
     friction: float
     restitution: float
@@ -42,6 +43,8 @@ class ShapeSpec:
         if self.kind == "circle":
             return math.pi * self.radius**2
         v = self.points
+        if self.kind == "capsule":
+            return math.pi * self.radius**2 + 2 * self.radius * math.dist(v[0], v[1])
         return 0.5 * abs(sum(v[i - 1][0] * v[i][1] - v[i][0] * v[i - 1][1] for i in range(len(v))))
 
 
@@ -71,6 +74,7 @@ class BenchScene:
     gravity: Vec
     attractors: tuple[tuple[float, float, float], ...]  # (x, y, G*M) of global attractors
     bodies: tuple[BodySpec, ...]
+    joints: tuple[JointSpec, ...] = ()
 
 
 def describe(scene: Scene, world: rustycs.World) -> BenchScene:
@@ -100,7 +104,7 @@ def describe(scene: Scene, world: rustycs.World) -> BenchScene:
     g = world.gravitational_constant
     attractors = tuple((float(a["position"][0]), float(a["position"][1]), g * a["mass"])
                        for a in world.attractors)
-    return BenchScene(scene.name, world.dt, gravity, attractors, tuple(bodies))
+    return BenchScene(scene.name, world.dt, gravity, attractors, tuple(bodies), describe_joints(scene))
 
 
 def _shapes(scene: Scene, name: str | None, shapes: list, materials: list,
@@ -108,8 +112,8 @@ def _shapes(scene: Scene, name: str | None, shapes: list, materials: list,
     """One body's shapes as the engine places them (`rustycs.pieces`: a polygon's vertices counter-clockwise
     as it collides them). A dynamic body's mass (inf otherwise) is shared among its shapes with area in
     proportion to area x density, as rustycs shares it. UserError for what the peers would build
-    differently: a capsule or chain, a sensor, or a polygon split into pieces (they would build its hull)."""
-    from rustycs.pieces import SEGMENT, shape_pieces
+    differently: a chain, a sensor, or a polygon split into pieces (they would build its hull)."""
+    from rustycs.pieces import CAPSULE, CIRCLE, SEGMENT, shape_pieces
     from rustycs.shapes import type_name
 
     specs = []
@@ -122,10 +126,11 @@ def _shapes(scene: Scene, name: str | None, shapes: list, materials: list,
                             f"{', '.join(PEER_SHAPES[:-1])} and {PEER_SHAPES[-1]} shapes")
         (piece,) = pieces
         points = piece.vertices if len(piece.vertices) else piece.centroid.reshape(1, 2)
-        specs.append(ShapeSpec(kind="circle" if kind == "circle" else "segment" if piece.kind == SEGMENT
-                               else "polygon", points=tuple(_vec(p) for p in points),
-                               centre=_vec(piece.centroid), radius=piece.radius, mass=0.0,
-                               friction=material.friction, restitution=material.restitution))
+        specs.append(ShapeSpec(kind={CIRCLE: "circle", CAPSULE: "capsule", SEGMENT: "segment"}.get(piece.kind,
+                                                                                              "polygon"),
+                               points=tuple(_vec(p) for p in points), centre=_vec(piece.centroid),
+                               radius=piece.radius, mass=0.0, friction=material.friction,
+                               restitution=material.restitution))
     if not math.isfinite(mass):
         return tuple(specs)
     weights = [0.0 if spec.kind == "segment" else spec.area * m.density

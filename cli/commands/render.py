@@ -35,6 +35,8 @@ def command(
     contacts: bool = typer.Option(False, "--contacts", help="Draw contact points and normals (if recorded)."),
     velocities: bool = typer.Option(False, "--velocities", help="Draw velocity arrows (0.1 s of motion)."),
     names: bool = typer.Option(False, "--names", help="Write each body's name."),
+    joints: bool = typer.Option(True, "--joints/--no-joints", help="Draw joints: anchors, the lines between "
+                                "them, springs as zigzags."),
 ) -> None:
     """Draw a run: one frame (.png), an animation (.gif, .mp4) or an interactive player (.html).
 
@@ -42,7 +44,7 @@ def command(
 
     Static bodies are outlined; +y is up, on a metre grid. Prints the view used (metres).
 
-    The .html player works offline: Space plays, arrows step, H/C/V/N toggle the overlays, wheel zooms.
+    The .html player works offline: Space plays, arrows step, H/C/V/N/J toggle the overlays, wheel zooms.
 
     Example: rustycs render outputs/material-bounce.h5 -o bounce.gif --every 2 --velocities
     """
@@ -58,7 +60,8 @@ def command(
             every=every,
             size=size,
             view=view,
-            overlays=Overlays(hitboxes=hitboxes, contacts=contacts, velocities=velocities, names=names),
+            overlays=Overlays(hitboxes=hitboxes, contacts=contacts, velocities=velocities, names=names,
+                              joints=joints),
         )
     )
     for note in result.notes:

@@ -14,6 +14,7 @@ if TYPE_CHECKING:
     import h5py
 
     from ..shape_table import ShapeTable
+    from .joints import JointTable
 
 BODIES = "particles/bodies"
 
@@ -82,6 +83,7 @@ class RunInfo:
     steps: np.ndarray  # [T] tick of each recorded frame
     times: np.ndarray  # [T] seconds
     has_contacts: bool
+    joints: JointTable
 
     @property
     def body_count(self) -> int:
@@ -120,6 +122,7 @@ def load_run(file: h5py.File, source: str) -> RunInfo:
 
 def _load(file: h5py.File, source: str) -> RunInfo:
     from ..shape_table import read_shapes
+    from .joints import read_joints
 
     bodies = _group(file, BODIES)
     frames = _group(file, f"{BODIES}/position")
@@ -139,6 +142,7 @@ def _load(file: h5py.File, source: str) -> RunInfo:
         steps=np.asarray(frames["step"], dtype=np.int64),
         times=np.asarray(frames["time"], dtype=np.float64),
         has_contacts="contacts/offset" in file,
+        joints=read_joints(file, len(frames["step"])),
     )
 
 

@@ -25,6 +25,7 @@ VELOCITY: RGB = (200, 0, 200)
 ATTRACTOR: RGB = (230, 160, 0)
 BOUNDS: RGB = (230, 120, 120)
 SPOKE: RGB = (255, 255, 255)
+JOINT: RGB = (0, 150, 136)  # teal: anchors and the lines, zigzags and pulley ropes between them
 
 
 def material_color(material: str) -> RGB:

@@ -21,9 +21,12 @@
   const contactOffset = decode("contactOffset", Int32Array);
   const contactPoint = decode("contactPoint", Float32Array);
   const contactNormal = decode("contactNormal", Float32Array);
+  const jointActive = decode("jointActive", Uint8Array);
 
   const bodies = header.bodies;
   const N = bodies.names.length;
+  const joints = header.joints;
+  const J = joints.types.length;
   const F = header.steps.length;
   const times = header.times;
   const COLORS = { grid: "#e4e4e4", axes: "#b4b4b4", text: "#1e1e1e", hitbox: "#0079f1", contact: "#0079f1",
@@ -81,12 +84,13 @@
     contacts: !!header.overlays.contacts,
     velocities: !!header.overlays.velocities,
     names: !!header.overlays.names,
+    joints: !!header.overlays.joints,
     scale: 1, // pixels per metre
     cx: 0, // world point at the centre of the canvas
     cy: 0,
     hover: -1, // body under the mouse
   };
-  const OVERLAYS = ["hitboxes", "contacts", "velocities", "names"];
+  const OVERLAYS = ["hitboxes", "contacts", "velocities", "names", "joints"];
   for (const name of OVERLAYS) document.getElementById(name).checked = state[name];
   const stats = { draws: 0, lastDrawMs: 0, maxDrawMs: 0 };
   let width = 1, height = 1, dpr = 1, dirty = true, clock = 0, lastNow = null;
@@ -340,6 +344,42 @@
     ctx.globalAlpha = 1;
   }
 
+  function anchorWorld(f, body, local) { // an anchor in its body's frame, in metres (-1: a world point)
+    if (body < 0) return local;
+    const base = f * N + body, c = Math.cos(angle[base]), s = Math.sin(angle[base]);
+    return [position[2 * base] + c * local[0] - s * local[1], position[2 * base + 1] + s * local[0] + c * local[1]];
+  }
+
+  function drawJoints(f) { // as rustycs_cli.render.joints.joint_lines: gears and broken joints are not drawn
+    if (!state.joints || J === 0) return;
+    const lines = new Path2D(), rings = new Path2D(), teeth = 2 * joints.zigzag.teeth;
+    for (let j = 0; j < J; j++) {
+      if (joints.types[j] === "gear" || !jointActive[f * J + j]) continue;
+      const a = anchorWorld(f, joints.bodyA[j], joints.anchorA[j]);
+      const b = anchorWorld(f, joints.bodyB[j], joints.anchorB[j]);
+      lines.moveTo(sx(a[0]), sy(a[1]));
+      if (joints.types[j] === "pulley") {
+        for (const [x, y] of joints.ground[j]) lines.lineTo(sx(x), sy(y));
+      } else if (joints.spring[j]) { // teeth across the line between the anchors
+        const dx = b[0] - a[0], dy = b[1] - a[1], w = joints.zigzag.width;
+        for (let k = 0; k < teeth; k++) {
+          const t = (k + 0.5) / teeth, side = k % 2 === 0 ? w : -w;
+          lines.lineTo(sx(a[0] + t * dx - side * dy), sy(a[1] + t * dy + side * dx));
+        }
+      }
+      lines.lineTo(sx(b[0]), sy(b[1]));
+      for (const [x, y] of [a, b]) {
+        rings.moveTo(sx(x) + 3, sy(y));
+        rings.arc(sx(x), sy(y), 3, 0, 2 * Math.PI);
+      }
+    }
+    ctx.strokeStyle = joints.color;
+    ctx.lineWidth = 1.5;
+    ctx.stroke(lines);
+    ctx.lineWidth = 1;
+    ctx.stroke(rings);
+  }
+
   function drawOverlays(f, shown) {
     if (state.hitboxes) {
       const path = new Path2D();
@@ -436,6 +476,7 @@
     drawWorld();
     const shown = order.filter((i) => visible(f, i));
     drawBodies(f, shown);
+    drawJoints(f);
     drawOverlays(f, shown);
     drawHover(f);
     const missing = state.contacts && !header.hasContacts ? "   (no contacts recorded)" : "";
@@ -538,7 +579,7 @@
   }
 
   // ---- input ----
-  const keys = { h: "hitboxes", c: "contacts", v: "velocities", n: "names" };
+  const keys = { h: "hitboxes", c: "contacts", v: "velocities", n: "names", j: "joints" };
   window.addEventListener("keydown", (event) => {
     if (event.ctrlKey || event.metaKey || event.altKey) return;
     const key = event.key.length === 1 ? event.key.toLowerCase() : event.key;
@@ -604,6 +645,7 @@
     header,
     frameCount: F,
     bodyCount: N,
+    jointCount: J,
     setFrame,
     togglePlay,
     step,

@@ -17,9 +17,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from . import colors
 from .bodies import RunInfo
 from .colors import hex_color
 from .frames import iter_blocks
+from .joints import ZIGZAG_TEETH, ZIGZAG_WIDTH
 from .raster import VELOCITY_SECONDS, Overlays
 from .view import Box
 
@@ -47,10 +49,12 @@ def write_player(
     stride, note = _stride(run, every, offsets)
     frames = range(start % stride, run.frame_count, stride)
     arrays, contacts = _arrays(file, run, frames)
+    arrays["jointActive"] = run.joints.active[frames.start :: frames.step].astype(np.uint8)
     header = {
         "source": run.source,
         "bodies": _bodies(run),
         "shapes": _shapes(run),
+        "joints": _joints(run),
         "attractors": [
             {"name": a.name, "x": a.position[0], "y": a.position[1], "range": _finite(a.range)}
             for a in run.attractors
@@ -76,7 +80,7 @@ def write_player(
 def _stride(run: RunInfo, every: int | None, offsets: np.ndarray | None) -> tuple[int, str]:
     """Every how many recorded frames the player keeps, and a note when that was forced by the budget."""
     asked = every or 1
-    per_frame = run.body_count * BODY_FRAME_BYTES
+    per_frame = run.body_count * BODY_FRAME_BYTES + run.joints.count  # one active byte per joint
     if offsets is not None:
         per_frame += CONTACT_BYTES * (offsets[-1] - offsets[0]) / max(run.frame_count, 1)
     budget_frames = max(1, min(MAX_FRAMES, int(MAX_BYTES // max(per_frame, 1))))
@@ -148,6 +152,22 @@ def _shapes(run: RunInfo) -> dict:
         "spoke": outlines.spoke.tolist(),
         "sensor": outlines.sensor.tolist(),
         "colors": [hex_color(color) for color in outlines.colors],
+    }
+
+
+def _joints(run: RunInfo) -> dict:
+    """The joints (`JointTable`) as JSON-friendly lists, and how to draw them."""
+    table = run.joints
+    return {
+        "types": table.types,
+        "bodyA": table.body_a.tolist(),
+        "bodyB": table.body_b.tolist(),
+        "anchorA": table.anchor_a.tolist(),
+        "anchorB": table.anchor_b.tolist(),
+        "ground": table.ground.tolist(),
+        "spring": table.spring.tolist(),
+        "color": hex_color(colors.JOINT),
+        "zigzag": {"teeth": ZIGZAG_TEETH, "width": ZIGZAG_WIDTH},
     }
 
 

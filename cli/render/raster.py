@@ -21,6 +21,7 @@ from .view import View, grid_spacing
 SUPERSAMPLE = 2
 VELOCITY_SECONDS = 0.1  # a velocity arrow shows where the body would be this much later
 CONTACT_DOT = 3.0  # pixels
+JOINT_DOT = 3.0  # pixels: the ring at a joint's anchor
 NORMAL_LENGTH = 14.0  # pixels
 LABEL_SPACING = 64.0  # pixels between grid labels at least
 CORNER_CLEAR = 30.0  # pixels at the top left kept for the tick label
@@ -37,6 +38,7 @@ class Overlays:
     contacts: bool = False
     velocities: bool = False
     names: bool = False
+    joints: bool = True
 
 
 @cache
@@ -62,6 +64,8 @@ def draw_frame(run: RunInfo, frame: Frame, view: View, overlays: Overlays) -> Im
     visible = _visible(frame, boxes, big)
     image = _bodies(image, run, frame, big, visible, points)
     draw = ImageDraw.Draw(image)
+    if overlays.joints:
+        _joints(draw, run, frame, big)
     if overlays.hitboxes:
         shown = shape_boxes[visible[run.outlines.body]]
         for xmin, ymin, xmax, ymax in big.to_pixel(shown.reshape(-1, 2, 2)).reshape(-1, 4):
@@ -217,6 +221,19 @@ def _shape(draw: ImageDraw.ImageDraw, run: RunInfo, s: int, pixels: np.ndarray, 
     if kind == "stadium":
         points = geometry.stadium(points[0], points[1], outlines.radius[s] * scale)
     draw.polygon([tuple(p) for p in points], fill=style.fill, outline=style.outline, width=style.width)
+
+
+def _joints(draw: ImageDraw.ImageDraw, run: RunInfo, frame: Frame, view: View) -> None:
+    """Each whole joint: the line (zigzag, pulley rope) between its anchors and a ring at each anchor."""
+    from .joints import joint_lines
+
+    lines, dots = joint_lines(run.joints, frame.index, frame.position, frame.angle)
+    for line in lines:
+        pixels = [tuple(p) for p in view.to_pixel(line)]
+        draw.line(pixels, fill=colors.JOINT, width=SUPERSAMPLE, joint="curve")
+    dot = JOINT_DOT * SUPERSAMPLE
+    for px, py in view.to_pixel(dots):
+        draw.ellipse([px - dot, py - dot, px + dot, py + dot], outline=colors.JOINT, width=SUPERSAMPLE)
 
 
 def _contacts(draw: ImageDraw.ImageDraw, frame: Frame, view: View) -> None:

@@ -101,7 +101,9 @@ def fit_box(file: h5py.File, run: RunInfo) -> Box:
     statics included) and the bodies still in the world at the last frame: active with their centre,
     when the world has bounds, inside them; without bounds, within the first frame's box grown by its
     own size on every side. A body that fell off a platform for seconds, or flew away, does not shrink
-    the scene to a dot."""
+    the scene to a dot. The joints as the scene placed them are taken in too (a pendulum's pivot)."""
+    from .joints import joint_lines
+
     attractors = [np.asarray(a.position, dtype=np.float64).reshape(1, 2) for a in run.attractors]
     start = _active_boxes(file, run, 0)
     end = _active_boxes(file, run, run.frame_count - 1)
@@ -115,8 +117,10 @@ def fit_box(file: h5py.File, run: RunInfo) -> Box:
         world = np.array([-np.inf, -np.inf, np.inf, np.inf])
     centre = (end[:, :2] + end[:, 2:]) / 2
     inside = np.all((centre >= world[:2]) & (centre <= world[2:]), axis=1)
+    pose = [np.asarray(file[f"{BODIES}/{name}/value"][0], dtype=np.float64) for name in ("position", "angle")]
+    joints = joint_lines(run.joints, 0, *pose)[0]
     points = np.concatenate(attractors + [start[:, :2], start[:, 2:], end[inside, :2], end[inside, 2:],
-                                          np.zeros((0, 2))])
+                                          *joints, np.zeros((0, 2))])
     if len(points) == 0:
         return (-5.0, -5.0, 5.0, 5.0)
     # bodies that flew to 1e300 m: the view stays where a picture can be drawn
