@@ -32,7 +32,7 @@ DEMOS = sorted(
     ]
 )
 BENCH = ["S1_bounce", "S2_pyramid20", "S3_pyramid40", "S4_rain1000", "S5_polypile500", "S6_orbits",
-         "compounds", "shower"]
+         "compounds", "large_pyramid", "many_pyramids", "shower", "smash", "tumbler"]
 
 
 def test_the_scenes_are_all_there() -> None:
