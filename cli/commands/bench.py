@@ -15,9 +15,10 @@ def command(
     ids: list[str] = typer.Argument(None, metavar="SCENE_ID", show_default=False,
                                     help="Scene ids to run, like --scenes."),
     scenes: list[str] = typer.Option([], "--scenes", metavar="ID", show_default=False,
-                                     help="Scenes to run: S1 .. S6, compounds, shower (repeatable, or "
-                                     "comma-separated; default: S1 .. S6; compounds, Box2D v3's 3000 "
-                                     "bodies of two triangles, and shower, 500 bullets in a box of thin "
+                                     help="Scenes to run: S1 .. S6, compounds, large_pyramid, "
+                                     "many_pyramids, smash, tumbler, shower (repeatable, or "
+                                     "comma-separated; default: S1 .. S6; Box2D v3's benchmark scenes "
+                                     "compounds .. tumbler, and shower, 500 bullets in a box of thin "
                                      "walls, run only when named)."),
     peers: bool = typer.Option(False, "--peers", help="Also step the same bodies in pymunk and Box2D v3 "
                                "(pyb2d3), from the `bench` extra: pip install 'rustycs\\[bench]'."),
