@@ -34,7 +34,7 @@ def body(kind: str = "circle", position=(0.0, 0.0), body_type: str = "dynamic", 
                       radius=radius if kind == "circle" else 0.0, mass=1.0 if body_type == "dynamic" else 0.0,
                       friction=0.6, restitution=0.0)
     return BodySpec(kind=kind, body_type=body_type, position=position, angle=angle, velocity=(0.0, 0.0),
-                    angular_velocity=0.0, mass=mass, fixed_rotation=kind == "aabb", group=group,
+                    angular_velocity=0.0, mass=mass, fixed_rotation=kind == "aabb", group=group, bullet=False,
                     shapes=(shape,))
 
 
@@ -176,7 +176,7 @@ def shape(kind: str, points, radius: float = 0.0, mass: float = 0.0) -> ShapeSpe
 def compound(position, *shapes: ShapeSpec, body_type: str = "dynamic") -> BodySpec:
     return BodySpec(kind="compound", body_type=body_type, position=position, angle=0.0, velocity=(0.0, 0.0),
                     angular_velocity=0.0, mass=1.0 if body_type == "dynamic" else math.inf,
-                    fixed_rotation=False, group=0, shapes=shapes)
+                    fixed_rotation=False, group=0, bullet=False, shapes=shapes)
 
 
 def square(x: float, y: float, half: float = 0.5) -> list[tuple[float, float]]:

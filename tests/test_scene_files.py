@@ -37,7 +37,8 @@ DEMOS = sorted(
     ]
 )
 BENCH = ["S1_bounce", "S2_pyramid20", "S3_pyramid40", "S4_rain1000", "S5_polypile500", "S6_orbits",
-         "compounds", "joint_grid", "ragdoll_rain", "shower"]
+         "compounds", "joint_grid", "large_pyramid", "many_pyramids", "ragdoll_rain", "shower", "smash",
+         "tumbler"]
 SLOW_TO_LOAD = ["joint_grid"]  # 30,000 entries: tens of seconds of YAML; tests/test_joint_scenes.py checks it
 
 

@@ -1,9 +1,9 @@
 """Quality beside speed: the same measures for every engine, computed from initial and final poses.
 
 Fast is worth little if the pyramid creeps or the pile sinks into itself, so each scene reports what
-it stresses: the worst box displacement of the pyramids, the deepest overlap and the escaped bodies of
-the container scenes, the orbit radius drift under the attractor. Overlaps are measured geometrically
-(separating axes on the final shapes), not taken from any engine's own contact data.
+it stresses: the top and the worst box displacement of the pyramids, the deepest overlap and the escaped
+bodies of the container scenes, the orbit radius drift under the attractor. Overlaps are measured
+geometrically (separating axes on the final shapes), not taken from any engine's own contact data.
 """
 
 from __future__ import annotations
@@ -26,6 +26,10 @@ METRICS: dict[str, tuple[str, ...]] = {
     "joint_grid": ("max_joint_gap",),
     "ragdoll_rain": ("max_joint_gap",),
     "shower": ("max_overlap", "outside"),
+    "large_pyramid": ("top_displacement", "max_displacement"),
+    "many_pyramids": ("top_displacement", "max_displacement"),
+    "smash": ("max_overlap", "escaped"),  # no container: escaped = left rustycs's world bounds
+    "tumbler": ("max_overlap", "outside"),
     "scaling": ("max_overlap", "escaped"),
 }
 
@@ -40,6 +44,8 @@ def measure(metrics: tuple[str, ...] | list[str], scene: BenchScene, start: np.n
     for name in metrics:
         if name == "max_displacement":
             out[name] = float(np.hypot(*(end[moving, :2] - start[moving, :2]).T).max(initial=0.0))
+        elif name == "top_displacement":
+            out[name] = top_displacement(start, end, moving)
         elif name == "max_overlap":
             out[name] = deepest_overlap(scene, end, alive)
         elif name == "escaped":
@@ -73,6 +79,15 @@ def max_joint_gap(scene: BenchScene, poses: np.ndarray) -> float:
     return worst
 
 
+def top_displacement(start: np.ndarray, end: np.ndarray, moving: np.ndarray) -> float:
+    """How far the highest dynamic body at the start (the first of equals) has moved: a pyramid's top box
+    moves only if the pile sinks or shears."""
+    if not moving.any():
+        return 0.0
+    top = int(np.argmax(np.where(moving, start[:, 1], -np.inf)))
+    return float(np.hypot(*(end[top, :2] - start[top, :2])))
+
+
 def radius_drift(scene: BenchScene, start: np.ndarray, end: np.ndarray) -> np.ndarray:
     """|r_end / r_start - 1| per body, r measured from the first attractor."""
     centre = np.array(scene.attractors[0][:2]) if scene.attractors else np.zeros(2)
@@ -98,14 +113,30 @@ def escaped(scene: BenchScene, poses: np.ndarray, active: np.ndarray) -> int:
 
 
 def outside(scene: BenchScene, poses: np.ndarray, active: np.ndarray) -> int:
-    """Dynamic bodies outside a closed box: origin beyond the middle of any of its walls (the static
-    shapes with area) on any side, or deactivated."""
-    statics = np.array([_centre(body, shape) for body in scene.bodies if body.body_type == "static"
-                        for shape in body.shapes if shape.kind != "segment"]).reshape(-1, 2)
+    """Dynamic bodies outside a closed box: origin beyond the middle of any of its walls (the shapes with
+    area of the static and kinematic bodies) on any side, or deactivated. The sides are taken in the frame
+    of the first wall's body at the end, so that a turning drum (a kinematic body) is a box too."""
+    poses = _statics_at_rest(scene, poses)
+    walls = [(i, shape) for i, body in enumerate(scene.bodies) if body.body_type != "dynamic"
+             for shape in body.shapes if shape.kind != "segment"]
+    frame = poses[walls[0][0]]
+    centres = np.array([_place(np.array([shape.centre]), poses[i])[0] for i, shape in walls])
+    corners = _local(centres, frame)
+    lo, hi = corners.min(axis=0), corners.max(axis=0)
+    local = _local(poses[:, :2], frame)
     moving = np.array([b.body_type == "dynamic" for b in scene.bodies], dtype=bool)
-    lo, hi = statics.min(axis=0), statics.max(axis=0)
-    out = ~active | (poses[:, :2] < lo).any(axis=1) | (poses[:, :2] > hi).any(axis=1)
+    out = ~active | (local < lo).any(axis=1) | (local > hi).any(axis=1)
     return int((out & moving).sum())
+
+
+def _statics_at_rest(scene: BenchScene, poses: np.ndarray) -> np.ndarray:
+    """`poses` with the static bodies at their initial poses: statics do not move (and some engines
+    share one static body)."""
+    poses = poses.copy()
+    for i, spec in enumerate(scene.bodies):
+        if spec.body_type == "static":
+            poses[i] = (*spec.position, spec.angle)
+    return poses
 
 
 def _centre(body: BodySpec, shape: ShapeSpec) -> np.ndarray:
@@ -120,14 +151,18 @@ def _place(points: np.ndarray, pose: np.ndarray) -> np.ndarray:
     return points @ np.array([[c, s], [-s, c]]) + (x, y)
 
 
+def _local(points: np.ndarray, pose: np.ndarray) -> np.ndarray:
+    """World points [k, 2] in the frame of a body at pose (x, y, angle): the inverse of `_place`."""
+    x, y, angle = pose
+    c, s = math.cos(angle), math.sin(angle)
+    return (points - (x, y)) @ np.array([[c, -s], [s, c]])
+
+
 def deepest_overlap(scene: BenchScene, poses: np.ndarray, active: np.ndarray) -> float:
     """The largest penetration depth between two shapes of bodies that may collide, m (0 when none
     overlap)."""
     specs = scene.bodies
-    poses = poses.copy()
-    for i, spec in enumerate(specs):  # statics do not move (and some engines share one static body)
-        if spec.body_type == "static":
-            poses[i] = (*spec.position, spec.angle)
+    poses = _statics_at_rest(scene, poses)
     owner = np.array([i for i, spec in enumerate(specs) for _ in spec.shapes], dtype=np.int64)
     shapes = [_world_shape(shape, poses[i]) for i, spec in enumerate(specs) for shape in spec.shapes]
     lo = np.array([s[0] for s in shapes]).reshape(-1, 2)

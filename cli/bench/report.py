@@ -11,6 +11,7 @@ from rich.table import Table
 
 ENGINE_TITLES = {"rustycs": "rustycs", "pymunk": "pymunk", "pyb2d3": "Box2D v3 (pyb2d3)"}
 QUALITY_TITLES = {
+    "top_displacement": "top box displacement, m",
     "max_displacement": "worst box displacement, m",
     "max_overlap": "deepest overlap, m",
     "escaped": "escaped bodies",

@@ -1,5 +1,5 @@
-"""Which scenes the benchmark runs: S1..S6, compounds and shower from scenes/bench/, and the generated scaling
-series."""
+"""Which scenes the benchmark runs: S1..S6, Box2D v3's benchmark scenes and shower from scenes/bench/, and the
+generated scaling series."""
 
 from __future__ import annotations
 
@@ -15,6 +15,11 @@ SCENE_FILES = {  # id: the file pattern in the bench folder
     "joint_grid": "joint_grid.yaml",  # Box2D v3's joint grid: 19,800 revolute joints, only when named
     "ragdoll_rain": "ragdoll_rain.yaml",  # 100 of Box2D's ragdolls, only when named
     "shower": "shower.yaml",  # 500 bullets at 100-300 m/s in a box of 2 cm walls, only when named
+    # Box2D v3's benchmark scenes (make_box2d_scenes.py), only when named:
+    "large_pyramid": "large_pyramid.yaml",  # 5,050 boxes in a pyramid of base 100
+    "many_pyramids": "many_pyramids.yaml",  # 400 pyramids of base 10: 22,000 boxes
+    "smash": "smash.yaml",  # a heavy box into a block of 9,600 boxes, no gravity
+    "tumbler": "tumbler.yaml",  # 2,025 boxes in a turning drum (one kinematic body of four walls)
 }
 SCALING_SIZES = (1000, 4000, 16000)
 SCALING_TICKS = 300

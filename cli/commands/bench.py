@@ -15,12 +15,11 @@ def command(
     ids: list[str] = typer.Argument(None, metavar="SCENE_ID", show_default=False,
                                     help="Scene ids to run, like --scenes."),
     scenes: list[str] = typer.Option([], "--scenes", metavar="ID", show_default=False,
-                                     help="Scenes to run: S1 .. S6, compounds, shower, joint_grid, "
-                                     "ragdoll_rain (repeatable, or comma-separated; default: S1 .. S6; "
-                                     "compounds, Box2D v3's 3000 bodies of two triangles, shower, 500 "
-                                     "bullets in a box of thin walls, joint_grid, Box2D v3's 19,800 "
-                                     "revolute joints, and ragdoll_rain, 100 ragdolls, run only when "
-                                     "named)."),
+                                     help="Scenes to run: S1 .. S6, compounds, large_pyramid, "
+                                     "many_pyramids, smash, tumbler, joint_grid, ragdoll_rain, shower "
+                                     "(repeatable, or comma-separated; default: S1 .. S6; Box2D v3's "
+                                     "benchmark scenes compounds .. ragdoll_rain, and shower, 500 bullets "
+                                     "in a box of thin walls, run only when named)."),
     peers: bool = typer.Option(False, "--peers", help="Also step the same bodies in pymunk and Box2D v3 "
                                "(pyb2d3), from the `bench` extra: pip install 'rustycs\\[bench]'."),
     reps: int = typer.Option(3, "--reps", min=1, help="Repetitions, each in a fresh process."),
