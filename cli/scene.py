@@ -92,9 +92,10 @@ def did_you_mean(word: str, candidates: Sequence[str]) -> str:
 
 
 class _Model(BaseModel):
-    """Base of every scene model: unknown keys are errors."""
+    """Base of every scene model: unknown keys are errors, and no number is infinite or NaN (the
+    models' bounded types in `scene_types` say more; this holds for every field whatever its type)."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 
 
 def _one_of(tagger: Callable[[Any], str | None], error_type: str, message: str, **members: Any) -> Any:

@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING, Any
 from pydantic import Field, model_validator
 from pydantic_core import PydanticCustomError
 
+from .errors import UserError
+from .limits import MAX_BODIES
 from .scene import (
     Body,
     GeneratedMaterial,
@@ -100,8 +102,12 @@ def spawn_ticks(emitter: Emitter, tick_rate: float, ticks: int) -> list[int]:
     period = max(1, round(tick_rate / emitter.rate))
     first = round(emitter.start * tick_rate)
     last = ticks if emitter.stop is None else min(ticks, round(emitter.stop * tick_rate))
-    found = list(range(first, last + 1, period)) if last >= first else []
-    return found if emitter.count is None else found[: emitter.count]
+    count = (last - first) // period + 1 if last >= first else 0
+    count = count if emitter.count is None else min(count, emitter.count)
+    if count > MAX_BODIES.value:  # counted before any is drawn: the rows are reserved up front
+        raise UserError(f"emitter {emitter.name!r} would emit {count} bodies in a run of {ticks} ticks, more "
+                        f"than {MAX_BODIES}; lower its rate or give it a count or a stop time")
+    return list(range(first, first + count * period, period))
 
 
 def emitted_bodies(scene: Scene, ticks: int) -> Emitted:

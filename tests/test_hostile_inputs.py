@@ -163,6 +163,32 @@ def test_traversal_writes_nothing_outside(cli, tmp_path: Path, monkeypatch: pyte
 # ------------------------------------------------------------------------------------ sizes
 
 
+EMITTING = SMALL + """emitters:
+  - {name: rain, shape: {type: circle, radius: 0.05}, region: {min: [-1, 2], max: [1, 3]}, rate: 1000000}
+measures:
+  - {name: top, of: bodies.ball.position.y, reduce: max}
+"""
+
+
+@pytest.mark.parametrize(("override", "expected"), [
+    ("emitters.rain.rate=.inf", "emitters.rain.rate: Input should be a finite number"),
+    ("emitters.rain.start=1e309", "Input should be a finite number"),
+    ("emitters.rain.lifetime=.nan", "Input should be a finite number"),
+])
+def test_the_numbers_of_this_rounds_models_are_finite(override: str, expected: str) -> None:
+    messages = problems_of(EMITTING, override)
+    assert len(messages) == 1 and expected in messages[0], messages
+
+
+def test_an_emitter_that_would_emit_too_many_bodies_is_refused_before_any_work(cli, tmp_path: Path) -> None:
+    scene = tmp_path / "s.yaml"
+    scene.write_text(EMITTING)
+    result = cli("run", str(scene), "--ticks", "1000000", "--out", str(tmp_path / "s.h5"))
+    assert_user_error(result, "emitter 'rain' would emit 1000001 bodies", "MAX_BODIES")
+    assert not (tmp_path / "s.h5").exists()
+
+
+
 def test_too_many_bodies_are_refused_before_any_work() -> None:
     text = ("generators:\n  - {name: g, count: 1000000000, shape: {type: circle, radius: 0.1},\n"
             "     region: {min: [0, 0], max: [1, 1]}}\n")
