@@ -19,6 +19,7 @@ if TYPE_CHECKING:
 Box = tuple[float, float, float, float]  # xmin, ymin, xmax, ymax in metres
 MARGIN = 0.06  # of the fitted box's size, on each side
 MIN_SPAN = 1.0  # metres: a single small body still gets some room around it
+MIN_WORLD_MARGIN = 20.0  # metres: without bounds, what has left the starting scene by more is not fitted
 
 
 @dataclass(frozen=True)
@@ -100,7 +101,8 @@ def fit_box(file: h5py.File, run: RunInfo) -> Box:
     """A box, with a margin, around the attractors, the bodies as the scene placed them (the first frame,
     statics included) and the bodies still in the world at the last frame: active with their centre,
     when the world has bounds, inside them; without bounds, within the first frame's box grown by its
-    own size on every side. A body that fell off a platform for seconds, or flew away, does not shrink
+    own size, and at least MIN_WORLD_MARGIN, on every side (a thrown ball, alone in its scene, is drawn
+    where it landed 10 m away). A body that fell off a platform for seconds, or flew away, does not shrink
     the scene to a dot. The joints as the scene placed them are taken in too (a pendulum's pivot)."""
     from .joints import joint_lines
 
@@ -111,7 +113,7 @@ def fit_box(file: h5py.File, run: RunInfo) -> Box:
         world = run.bounds.reshape(-1)
     elif len(start):
         low, high = start[:, :2].min(axis=0), start[:, 2:].max(axis=0)
-        size = np.maximum(high - low, MIN_SPAN)
+        size = np.maximum(high - low, MIN_WORLD_MARGIN)
         world = np.concatenate([low - size, high + size])
     else:
         world = np.array([-np.inf, -np.inf, np.inf, np.inf])
