@@ -14,6 +14,7 @@ from typing import Any, Literal
 from pydantic import Field, field_validator, model_validator
 
 from .scene import Loc, Problem, Scene, Vec2, _Model, _one_of, _problem, did_you_mean
+from .scene_types import Name
 
 COUPLED_BY_GEARS = ("revolute", "prismatic")
 
@@ -76,7 +77,7 @@ _TRANSLATION_LIMITS = "Lower and upper translation along the axis, m, relative t
 class _Joint(_Model):
     """The keys of every joint."""
 
-    name: str | None = Field(
+    name: Name | None = Field(
         None,
         min_length=1,
         description="Unique name, for overrides like joints.hinge.motor.speed. Default: '<type>-<index in "
@@ -261,7 +262,7 @@ class Gear(_Model):
     """Couples two revolute or prismatic joints: angle_1 + ratio * angle_2 stays constant (translations
     for prismatic joints)."""
 
-    name: str | None = _Joint.model_fields["name"]
+    name: Name | None = _Joint.model_fields["name"]
     type: Literal["gear"] = Field(description="Joint kind.", examples=["gear"])
     joints: tuple[str, str] = Field(
         description="The two revolute or prismatic joints coupled, by name.",
