@@ -148,7 +148,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
                                 else world.step(count))
                 except rustycs.SimulationDiverged as err:
                     step_seconds += time.perf_counter() - begin
-                    writer.events.append(world.events())
+                    writer.events.append(world.events(), scene.output.events)
                     record(err.frames)
                     status = "diverged"
                     message = _divergence_message(err, names, tracker.last.tick if tracker.last else 0, out)
@@ -156,7 +156,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
                 elapsed = time.perf_counter() - begin
                 step_seconds += elapsed
                 pace.took(count, elapsed)
-                writer.events.append(world.events())
+                writer.events.append(world.events(), scene.output.events)
                 record(recorded)
                 advance(count)
                 if world.stop_condition is not None:

@@ -42,10 +42,18 @@ class EventWriter:
                 dataset.attrs["unit"] = unit
             self.datasets[name] = dataset
 
-    def append(self, events: dict[str, Any]) -> None:
-        """Append the events of one step call, as `World.events()` returns them."""
+    def append(self, events: dict[str, Any], contact_events: bool) -> None:
+        """Append the events of one step call, as `World.events()` returns them; contact_begin and
+        contact_end only with `contact_events` (the scene's `output.events`: the engine also records
+        them when a measure or stop condition watches contacts)."""
         import numpy as np
 
+        from rustycs.events import CONTACT_BEGIN, CONTACT_END, EVENT_KIND_NAMES
+
+        if not contact_events:
+            contact = (EVENT_KIND_NAMES[CONTACT_BEGIN], EVENT_KIND_NAMES[CONTACT_END])
+            keep = np.array([str(kind) not in contact for kind in events["kind"]], dtype=bool)
+            events = {key: np.asarray(value)[keep] for key, value in events.items()}
         count = len(events["tick"])
         if not count:
             return

@@ -99,6 +99,11 @@ def test_a_dropped_ball_stops_the_run_at_its_first_contact(cli, tmp_path: Path) 
         assert file["parameters"].attrs["status"] == "stopped"
         assert file["parameters"].attrs["stop_reason"] == summary["stop_reason"]
         assert file["particles/bodies/position/step"][-1] == summary["ticks"]  # the last frame is that tick
+        assert "contact_begin" not in set(file["events/kind"].asstr()[:])  # output.events is off
+    with_events = write(tmp_path, DROP.replace("world:", "output: {events: true}\nworld:"), "events.yaml")
+    run(cli, with_events, tmp_path / "events.h5", "--every", "50")
+    with h5py.File(tmp_path / "events.h5", "r") as file:
+        assert list(file["events/kind"].asstr()[:]) == ["contact_begin"]
 
 
 @pytest.mark.usefixtures("compiled_engine")
