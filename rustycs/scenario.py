@@ -24,11 +24,10 @@ class Scenario(NamedTuple):
 
 
 @tick_kernel
-def events_bound(scenario, n_bodies, n_joints, n_manifolds, n_touching):
+def events_bound(n_sensor_bodies, n_bodies, n_joints, n_manifolds, n_touching):
     """The most events a tick can record: a contact begins or ends per manifold now and pair touching
     before, a body escapes, appears or is removed, enters or leaves each sensor body, a joint breaks."""
-    return (n_manifolds + n_touching + n_bodies * (2 + scenario.sensors.body.shape[0]) + n_joints
-            + EVENT_MARGIN)
+    return n_manifolds + n_touching + n_bodies * (2 + n_sensor_bodies) + n_joints + EVENT_MARGIN
 
 
 @tick_kernel

@@ -109,9 +109,9 @@ def new_workspace(n_bodies, n_shapes, n_joints, max_vertices, c_key, c_jn, c_jt)
                      new_batches(n_bodies, capacity), np.empty(capacity * LANE_FIELDS),
                      np.ones((n_bodies, 2)), np.zeros((n_bodies, BODY_COLUMNS)),
                      np.ones((n_bodies, SCRATCH_COLUMNS)), np.zeros((n_joints, FRAME_COLUMNS)),
-                     np.zeros(n_joints, np.int64), new_events(n_joints + n_bodies + 16), np.zeros(1,
-                                                                                                  np.bool_),
-                     new_touching(capacity))
+                     np.zeros(n_joints, np.int64),
+                     new_events(events_bound(0, n_bodies, n_joints, capacity, capacity)),  # tick 1 fits
+                     np.zeros(1, np.bool_), new_touching(capacity))
 
 
 @njit(cache=True)
@@ -169,14 +169,31 @@ TICKS_DONE, FRAMES, ESCAPED, BAD_BODY, NEED_CELLS, NEED_PAIRS, NEED_CHUNKS, NEED
 STATUS_FIELDS = 9
 
 
-@tick_kernel
+@njit(cache=True, nogil=True, _nrt=False)
 def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, scenario, first_tick,
               every, frames, status):
-    """Step until `n_ticks` ticks are done (counted in `status`), a state becomes non-finite, a stop
-    condition of the scenario holds (its frame recorded), or a buffer is too small: then the tick stops
-    before it changed any state, with the sizes it needs in `status`, to be grown and run again.
-    Compiled without reference counting, like every stage it calls: a tick passes the records to a
-    dozen stages, and counting references to their arrays cost a third of a five-body tick."""
+    """Advance until `n_ticks` ticks are done in place (counted in `status`), a state becomes non-finite,
+    a stop condition of the scenario holds (its frame recorded), or a buffer of `ws` is too small: then
+    the tick stops before it changed any state, with the sizes it needs in `status`: `grow` the
+    workspace and call again with the same status to go on.
+
+    With `every` > 0, a frame (`recording.record_frame`) is written into `frames` after every `every`-th
+    tick of the block and after its last; ticks are numbered from `first_tick`. `scenario`
+    (`rustycs.scenario.Scenario`) makes bodies appear and vanish, senses, measures and may stop the block
+    early. In `status` (`new_status`) BAD_BODY is -1 or the first body whose state became non-finite in
+    the tick after TICKS_DONE; STOPPED is -1 or the stop condition that held after tick TICKS_DONE.
+
+    Called from Python: it releases the GIL (independent worlds step in parallel threads) and returns
+    nothing (boxing the workspace back on every call cost 80 unpicklings). Compiled without reference
+    counting, like every stage it calls: a tick passes the records to a dozen stages, and counting
+    references to their arrays cost a third of a five-body tick. No compiled wrapper around it: the same
+    loop inlined into one, loaded from numba's disk cache, took 2.3 us a tick of the five-body bench
+    scene instead of 1.45.
+    """
+    status[NEED_CELLS] = 0
+    status[NEED_PAIRS] = 0
+    status[NEED_CHUNKS] = 0
+    status[NEED_EVENTS] = 0
     dt = settings.dt
     h = dt / settings.substeps
     contact_hertz = min(CONTACT_HERTZ, 0.25 / h)
@@ -211,8 +228,8 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
             return
         n_man, n_pts = narrow_phase(pairs.keys, n_pairs, bodies, shapes, geometry, SPECULATIVE_DISTANCE, dt,
                                     contacts)
-        room = events.count[0] + events_bound(scenario, bodies.x.shape[0], joints.kind.shape[0], n_man,
-                                              touching.count[0])
+        room = events.count[0] + events_bound(scenario.sensors.body.shape[0], bodies.x.shape[0],
+                                              joints.kind.shape[0], n_man, touching.count[0])
         if room > events.tick.shape[0]:
             status[NEED_EVENTS] = room
             return
@@ -264,31 +281,8 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
             return
 
 
-@njit(cache=True, nogil=True)
-def step_world(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, scenario, first_tick,
-               every, frames, status):
-    """Advance until `n_ticks` ticks are done in place (`run_ticks`), or a buffer of `ws` must grow (then
-    `status` says how large: `grow` it, and call again with the same status to go on). Releases the GIL,
-    so independent worlds step in parallel threads. Returns nothing: boxing the workspace back into
-    Python on every call cost 80 unpicklings, most of a one-tick call.
-
-    With `every` > 0, a frame (`recording.record_frame`) is written into `frames` after every
-    `every`-th tick of the block and after its last; ticks are numbered from `first_tick`.
-    `scenario` (`rustycs.scenario.Scenario`) makes bodies appear and vanish, senses, measures and may stop
-    the block early. In `status` (`new_status`) BAD_BODY is -1 or the first body whose state became
-    non-finite in the tick after TICKS_DONE, where the block stopped, its frames so far recorded; STOPPED
-    is -1 or the stop condition that held after tick TICKS_DONE, its frame recorded.
-    """
-    status[NEED_CELLS] = 0
-    status[NEED_PAIRS] = 0
-    status[NEED_CHUNKS] = 0
-    status[NEED_EVENTS] = 0
-    run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, scenario, first_tick,
-              every, frames, status)
-
-
 def new_status() -> np.ndarray:
-    """A block's status before its first tick (`step_world`)."""
+    """A block's status before its first tick (`run_ticks`)."""
     status = np.zeros(STATUS_FIELDS, np.int64)
     status[BAD_BODY] = -1
     status[STOPPED] = -1

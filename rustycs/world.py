@@ -470,7 +470,7 @@ class World(BodyControl, WorldQueries, WorldScenario):
             grow,
             new_status,
             new_workspace,
-            step_world,
+            run_ticks,
         )
 
         if n <= 0:
@@ -490,8 +490,8 @@ class World(BodyControl, WorldQueries, WorldScenario):
         status, frames, settings = new_status(), tuple(record.values()), self._settings()
         self._workspace.events.count[0] = 0  # the last call's events were taken
         while True:
-            step_world(n, inputs.bodies, inputs.shapes, inputs.joints, inputs.joint_filter, inputs.forces,
-                       settings, self._workspace, inputs.scenario, self.tick, every, frames, status)
+            run_ticks(n, inputs.bodies, inputs.shapes, inputs.joints, inputs.joint_filter, inputs.forces,
+                      settings, self._workspace, inputs.scenario, self.tick, every, frames, status)
             if status[BAD_BODY] >= 0 or status[STOPPED] >= 0 or status[TICKS_DONE] == n:
                 break
             self._workspace = grow(self._workspace, self.body_count, status)
