@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     from .loading import LoadedScene
 
 EXIT_CODES = {"complete": 0, "stopped": 0, "diverged": 1, "interrupted": 130}
-COMPILE_SECONDS = 150  # first compilation of the engine on a 2-core machine (measured 150 s alone, 240 s loaded)
+COMPILE_SECONDS = 150  # first compilation of the engine, 2 cores (measured: 150 s alone, 240 s loaded)
 BLOCK_TICKS = 256  # at most about this many ticks per engine call, so that Ctrl-C is answered promptly
 
 

@@ -43,13 +43,17 @@ from rustycs.events import JOINT_BREAK, Events, grown_events, new_events, record
 from rustycs.geometry import Geometry, new_geometry, update_geometry
 from rustycs.impacts import keep_velocities, resolve_impacts
 from rustycs.joint_solver import (
-    FRAME_COLUMNS,
     RELAX,
     SOLVE,
     WARM,
+    JointWork,
     anchor_point,
     break_joints,
+    breakable,
+    joint_reactions,
     joints_pass,
+    new_joint_work,
+    prepare_block,
     prepare_joints,
 )
 from rustycs.motion import (
@@ -90,8 +94,7 @@ class Workspace(NamedTuple):
     decay: np.ndarray  # (N, 2) per body the damping factors of a tick, linear and angular
     bounce_velocity: np.ndarray  # (N, BODY_COLUMNS) the solver rows before the soft step (impacts)
     held_back: np.ndarray  # (N, continuous.SCRATCH_COLUMNS) scratch of `hold_back_passes`
-    joint_frames: np.ndarray  # (J, FRAME_COLUMNS) the joints' anchors and springs of the tick
-    broken: np.ndarray  # (J,) int64 scratch: the joints that broke in a tick
+    joint_work: JointWork
     events: Events
     statics_placed: np.ndarray  # bool (1,): the static bodies' geometry is up to date
     touching: Touching  # the shape pairs touching in the last tick (contact events)
@@ -108,8 +111,7 @@ def new_workspace(n_bodies, n_shapes, n_joints, max_vertices, c_key, c_jn, c_jt)
                      new_cache(2 * capacity, c_key, c_jn, c_jt), np.empty((n_bodies, BODY_COLUMNS)),
                      new_batches(n_bodies, capacity), np.empty(capacity * LANE_FIELDS),
                      np.ones((n_bodies, 2)), np.zeros((n_bodies, BODY_COLUMNS)),
-                     np.ones((n_bodies, SCRATCH_COLUMNS)), np.zeros((n_joints, FRAME_COLUMNS)),
-                     np.zeros(n_joints, np.int64),
+                     np.ones((n_bodies, SCRATCH_COLUMNS)), new_joint_work(n_bodies, n_joints),
                      new_events(events_bound(0, n_bodies, n_joints, capacity, capacity)),  # tick 1 fits
                      np.zeros(1, np.bool_), new_touching(capacity))
 
@@ -139,11 +141,11 @@ def grown(ws, n_bodies, cells, pairs, points, chunks, events):
     if chunks * LANES * LANE_FIELDS > lanes.shape[0]:
         lanes = np.empty(2 * chunks * LANES * LANE_FIELDS)
     return Workspace(ws.geometry, p, contacts, cache, ws.body, batches, lanes, ws.decay, ws.bounce_velocity,
-                     ws.held_back, ws.joint_frames, ws.broken, kept, ws.statics_placed, touching)
+                     ws.held_back, ws.joint_work, kept, ws.statics_placed, touching)
 
 
 @tick_kernel
-def substeps(batches, n_chunks, lanes, body, bodies, joints, joint_frames, joint_soft, forces, h, count):
+def substeps(batches, n_chunks, lanes, body, bodies, joints, joint_work, joint_soft, forces, h, count):
     """The solver's substeps: integrate velocities, warm start, solve with the soft bias, integrate
     positions, relax (the joints before the contacts in each pass). One compiled call with every pass
     inlined: a call per pass cost a quarter of the tick of a five-body scene."""
@@ -151,14 +153,14 @@ def substeps(batches, n_chunks, lanes, body, bodies, joints, joint_frames, joint
     for _ in range(count):
         integrate_velocities(body, bodies, forces, h)
         if jointed:
-            joints_pass(WARM, bodies, body, joints, joint_frames, joint_soft, h)
+            joints_pass(WARM, bodies, body, joints, joint_work, joint_soft, h)
         warm_start(batches, n_chunks, lanes, body)
         if jointed:
-            joints_pass(SOLVE, bodies, body, joints, joint_frames, joint_soft, h)
+            joints_pass(SOLVE, bodies, body, joints, joint_work, joint_soft, h)
         solve(batches, n_chunks, lanes, body, 1.0 / h, True)
         integrate_positions(body, bodies, h)
         if jointed:
-            joints_pass(RELAX, bodies, body, joints, joint_frames, joint_soft, h)
+            joints_pass(RELAX, bodies, body, joints, joint_work, joint_soft, h)
         solve(batches, n_chunks, lanes, body, 1.0 / h, False)
 
 
@@ -203,9 +205,11 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
     # rocked ever more and fell after 3.4 s at 4 substeps (capped: at rest for 10 s, to 4e-6 rad)
     stiff = softness(min(2.0 * contact_hertz, 0.25 / h), CONTACT_DAMPING_RATIO, h)
     joint_soft = softness(JOINT_STIFFNESS / h, JOINT_DAMPING_RATIO, h)
-    (geometry, pairs, contacts, cache, body, batches, lanes, decay, bounce_velocity, held_back, joint_frames,
-     broken, events, statics_placed, touching) = ws
+    (geometry, pairs, contacts, cache, body, batches, lanes, decay, bounce_velocity, held_back, joint_work,
+     events, statics_placed, touching) = ws
     damping_factors(bodies, dt, decay)
+    prepare_block(joints, h, joint_work)
+    breaking = breakable(joints)
     while status[TICKS_DONE] < n_ticks:
         bad = first_non_finite(bodies)
         if bad >= 0:  # set from outside between blocks: report it before it spreads
@@ -238,7 +242,7 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
         warm_start_points(contacts.points, n_pts, cache)
         load_bodies(bodies, body)
         damp(body, bodies, decay)
-        prepare_joints(bodies, joints, h, joint_frames)
+        prepare_joints(bodies, joints, tick, joint_work)
         n_chunks = schedule(contacts.manifolds, n_man, body, batches)
         if n_chunks * LANES * LANE_FIELDS > lanes.shape[0]:
             status[NEED_CHUNKS] = n_chunks
@@ -247,7 +251,7 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
                          stiff, lanes)
         if bouncy > 0:
             keep_velocities(body, bounce_velocity)
-        substeps(batches, n_chunks, lanes, body, bodies, joints, joint_frames, joint_soft, forces, h,
+        substeps(batches, n_chunks, lanes, body, bodies, joints, joint_work, joint_soft, forces, h,
                  settings.substeps)
         store_impulses(batches, n_chunks, contacts.manifolds, lanes, contacts.points)
         if bouncy > 0:
@@ -258,10 +262,16 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
         hold_back_passes(pairs.keys, n_pairs, contacts.paired, bodies, shapes, geometry, body, dt,
                          SPECULATIVE_DISTANCE, contacts.sweep, held_back)
         remember(contacts.points, n_pts, cache)
-        for k in range(break_joints(bodies, body, joints, joint_frames, h, broken)):
-            px, py = anchor_point(bodies, joints, broken[k])
-            record_event(events, tick, JOINT_BREAK, broken[k], -1, px, py, 0.0)
-            pairs.count[0] = -1  # the joint no longer keeps its bodies apart
+        done = status[TICKS_DONE] + 1
+        recorded = every > 0 and (done % every == 0 or done == n_ticks)
+        if breaking or recorded or done == n_ticks:  # else nobody reads the reactions of this tick
+            joint_reactions(bodies, body, joints, joint_work, h)
+        if breaking:
+            broken = joint_work.broken
+            for k in range(break_joints(joints, broken)):
+                px, py = anchor_point(bodies, joints, broken[k])
+                record_event(events, tick, JOINT_BREAK, broken[k], -1, px, py, 0.0)
+                pairs.count[0] = -1  # the joint no longer keeps its bodies apart
         bad = first_non_finite(bodies)
         if bad >= 0:
             status[BAD_BODY] = bad
@@ -270,9 +280,10 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
             status[ESCAPED] += apply_bounds(bodies, settings.bounds, tick, events)
         status[STOPPED] = after_tick(scenario, bodies, shapes, forces, contacts.points, n_pts, events,
                                      first_event, tick, dt)
-        status[TICKS_DONE] += 1
-        done = status[TICKS_DONE]
+        status[TICKS_DONE] = done
         stopped = status[STOPPED] >= 0
+        if stopped and not (breaking or recorded or done == n_ticks):
+            joint_reactions(bodies, body, joints, joint_work, h)  # the last tick of the block
         if every > 0 and (done % every == 0 or done == n_ticks or stopped):
             record_frame(frames, status[FRAMES], first_tick + done, bodies, joints, forces, contacts.points,
                          n_pts)
