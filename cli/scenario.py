@@ -24,10 +24,12 @@ class RunPlan:
     scene: Scene
     spawn_ticks: list[int]
     remove_ticks: list[int | None]
+    if_free: list[bool]  # appears only where its place is free (an emitter's placement: no_overlap)
     emitted: dict[str, list[str]]  # emitter name -> its bodies
 
     def timing(self, index: int) -> dict[str, Any]:
-        return {"spawn_tick": self.spawn_ticks[index], "remove_tick": self.remove_ticks[index]}
+        return {"spawn_tick": self.spawn_ticks[index], "remove_tick": self.remove_ticks[index],
+                "if_free": self.if_free[index]}
 
 
 def plan_run(scene: Scene, ticks: int) -> RunPlan:
@@ -36,7 +38,7 @@ def plan_run(scene: Scene, ticks: int) -> RunPlan:
     listed = len(scene.bodies)
     return RunPlan(scene.model_copy(update={"bodies": [*scene.bodies, *emitted.bodies]}),
                    [0] * listed + emitted.spawn_ticks, [None] * listed + emitted.remove_ticks,
-                   emitted.by_emitter)
+                   [False] * listed + emitted.if_free, emitted.by_emitter)
 
 
 class _Sets:
@@ -137,6 +139,30 @@ def measure_results(world: rustycs.World, scene: Scene) -> dict[str, Any]:
     """Each measure by name: a number, None, or a histogram's counts."""
     return {measure.name: (None if isinstance(value, float) and not math.isfinite(value) else value)
             for measure, value in zip(scene.measures, world.measure_results(), strict=True)}
+
+
+def emitter_counts(world: rustycs.World, plan: RunPlan) -> dict[str, dict[str, int]]:
+    """Per emitter: its bodies that appeared by the world's tick, and those skipped (placement:
+    no_overlap) because their place was taken."""
+    skipped = world.skipped
+    row = {body.name: i for i, body in enumerate(plan.scene.bodies)}
+    counts = {}
+    for emitter, names in plan.emitted.items():
+        due = [row[name] for name in names if plan.spawn_ticks[row[name]] <= world.tick]
+        missed = int(sum(skipped[i] for i in due))
+        counts[emitter] = {"appeared": len(due) - missed, "skipped": missed}
+    return counts
+
+
+def summary_columns(summary: dict[str, Any]) -> dict[str, Any]:
+    """The summary as flat columns (HDF5 attributes, the `rustycs run` table, a sweep's rows): its
+    measures as `measure.<name>` (`measure_columns`), its emitters' counts as `emitter.<name>.appeared`
+    and `emitter.<name>.skipped`."""
+    columns = {key: value for key, value in summary.items() if key not in ("measures", "emitters")}
+    columns.update(measure_columns(summary.get("measures") or {}))
+    for emitter, counts in (summary.get("emitters") or {}).items():
+        columns.update({f"emitter.{emitter}.{key}": count for key, count in counts.items()})
+    return columns
 
 
 def measure_columns(measures: dict[str, Any]) -> dict[str, Any]:

@@ -232,3 +232,55 @@ def test_run_duration_option_sets_the_ticks(cli, tmp_path: Path) -> None:  # noq
     assert run(cli, scene, tmp_path / "d.h5", "--duration", "0.1")["ticks"] == 24  # 0.1 s at 240 Hz
     both = cli("run", scene, "--out", tmp_path / "e.h5", "--duration", "0.1", "--ticks", "5")
     assert both.exit_code == 2 and "give --ticks or --duration, not both" in both.stderr
+
+
+TAP_IN_PLACE = """\
+name: tap-in-place
+world: {tick_rate: 60, duration: 2.0}
+forces:
+  - {name: gravity, acceleration: [0, -1]}
+bodies:
+  - {name: floor, type: static, shape: {type: aabb, width: 10, height: 1}, position: [0, -6]}
+emitters:
+  - {name: tap, shape: {type: circle, radius: 0.5}, position: [0, 2], rate: 10, count: 20,
+     placement: no_overlap}
+"""
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_a_no_overlap_emitter_skips_the_bodies_whose_place_is_taken(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    scene = write(tmp_path, TAP_IN_PLACE)
+    summary = run(cli, scene, tmp_path / "a.h5")
+    with h5py.File(tmp_path / "a.h5", "r") as file:
+        spawn = file["particles/bodies/spawn_tick"][()]
+        active = file["particles/bodies/active/value"][()]
+        position = file["particles/bodies/position/value"][()]
+        kinds = list(file["events/kind"].asstr()[()])
+        attrs = dict(file["parameters/summary"].attrs)
+    appeared = active[:, 1:].any(axis=0)
+    # one every 6 ticks, each where the last one was: only once that one has fallen 2 r = 1 m (g = 1:
+    # after 1.41 s) is the place free again
+    assert 1 < appeared.sum() < 20
+    shown = int(appeared.sum())
+    assert summary["emitters"] == {"tap": {"appeared": shown, "skipped": 20 - shown}}
+    assert summary["escaped_bodies"] == 0  # skipped is not escaped
+    assert attrs["emitter.tap.skipped"] == 20 - shown and attrs["emitter.tap.appeared"] == shown
+    assert kinds.count("spawn") == appeared.sum() - 1  # the first is there from the start
+    assert np.array_equal(spawn[1:] == -1, ~appeared)  # the skipped ones never appeared
+    assert list(spawn[1:][appeared][:2]) == [0, 90]  # the drop from tick 0 is 1 m below by tick 85
+    for frame in range(len(active)):  # no two present bodies overlap at any frame
+        xy = position[frame, 1:][active[frame, 1:]]
+        gaps = np.hypot(*(xy[:, None, :] - xy[None, :, :]).transpose(2, 0, 1))
+        assert (gaps[np.triu_indices(len(xy), 1)] >= 1.0).all()
+    table = cli("run", scene, "--out", tmp_path / "b.h5")  # the table printed by `rustycs run`, and again
+    assert table.exit_code == 0 and "emitter.tap.skipped" in table.stdout
+    with h5py.File(tmp_path / "b.h5", "r") as file:
+        assert np.array_equal(file["particles/bodies/position/value"][()], position)
+        assert np.array_equal(file["particles/bodies/spawn_tick"][()], spawn)
+
+    free_scene = write(tmp_path, TAP_IN_PLACE.replace("no_overlap", "free"), "free.yaml")
+    free = run(cli, free_scene, tmp_path / "f.h5")
+    assert free["emitters"] == {"tap": {"appeared": 20, "skipped": 0}}
+    with h5py.File(tmp_path / "f.h5", "r") as file:
+        assert list(file["particles/bodies/spawn_tick"][1:]) == list(range(0, 120, 6))
+        assert file["particles/bodies/active/value"][-1, 1:].all()
