@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 from .scene import Scene  # before the modules below, whose models the scene's models import
 from .scene_emitters import emitted_bodies
-from .scene_measures import Inside, OnEvent, describe_condition, split_of
+from .scene_measures import Inside, OnEvent, describe_condition, joints_joining, split_of
 
 if TYPE_CHECKING:
     import rustycs
@@ -94,9 +94,8 @@ def attach(world: rustycs.World, plan: RunPlan, contact_events: bool) -> None:
         timing = ({"reduce": "at", "at_tick": round(measure.at * rate)} if measure.at is not None
                   else {"reduce": measure.reduce})
         if measure.first is not None:
-            rows = [sets.named([name]) for name in measure.first.bodies]
-            world.add_measure("first", event=measure.first.event, bodies=rows[0] if rows else [],
-                              others=rows[1] if len(rows) > 1 else [])
+            bodies, others = _event_rows(world, sets, measure.first.event, measure.first.bodies)
+            world.add_measure("first", event=measure.first.event, bodies=bodies, others=others)
         elif measure.time_inside is not None:
             world.add_measure("time_inside", bodies=sets.named(measure.time_inside.bodies),
                               sensor=sets.row[measure.time_inside.sensor])
@@ -118,15 +117,28 @@ def attach(world: rustycs.World, plan: RunPlan, contact_events: bool) -> None:
                                   aggregate="one" if one else measure.aggregate or "mean", **timing)
     for condition in scene.world.stop_when:
         if isinstance(condition, OnEvent):
-            rows = [sets.named([name]) for name in condition.bodies]
-            world.add_stop_condition("event", event=condition.event, bodies=rows[0] if rows else [],
-                                     others=rows[1] if len(rows) > 1 else [])
+            bodies, others = _event_rows(world, sets, condition.event, condition.bodies)
+            world.add_stop_condition("event", event=condition.event, bodies=bodies, others=others)
         elif isinstance(condition, Inside):
             world.add_stop_condition("inside", sensor=sets.row[condition.inside],
                                      bodies=sets.named(condition.bodies),
                                      hold_ticks=round(condition.for_ * rate))
         else:
             world.add_stop_condition("at_rest", hold_ticks=round(condition.at_rest * rate))
+
+
+def _event_rows(world: rustycs.World, sets: _Sets, event: str,
+                names: list[str]) -> tuple[list[int], list[int]]:
+    """The engine's two lists of an event's `bodies` (one or two names): body rows, the event between one
+    of each when there are two lists. A joint_break names its joint in place of a body, so its names
+    become the rows of the joints joining those bodies, one list."""
+    rows = [sets.named([name]) for name in names]
+    if event == "joint_break" and rows:
+        pairs = [(int(a), int(b)) for a, b in world.joint_bodies]
+        joints = joints_joining(pairs, [set(r) for r in rows])
+        assert joints, "a scene check reports bodies with no joint between them"
+        return joints, []  # else an empty list: any joint
+    return (rows[0] if rows else []), (rows[1] if len(rows) > 1 else [])
 
 
 def stop_reason(world: rustycs.World, scene: Scene) -> str | None:

@@ -284,3 +284,65 @@ def test_a_no_overlap_emitter_skips_the_bodies_whose_place_is_taken(cli, tmp_pat
     with h5py.File(tmp_path / "f.h5", "r") as file:
         assert list(file["particles/bodies/spawn_tick"][1:]) == list(range(0, 120, 6))
         assert file["particles/bodies/active/value"][-1, 1:].all()
+
+
+SNAP = """\
+name: snap
+world: {tick_rate: 240, duration: 1.0}
+forces:
+  - {name: gravity, acceleration: [0, -9.81]}
+bodies:
+  - {name: hook, type: static, shape: {type: circle, radius: 0.05}, position: [-2, 2]}
+  - {name: bob, shape: {type: circle, radius: 0.1}, position: [-2, 1.5]}
+  - {name: pivot, type: static, shape: {type: circle, radius: 0.05}, position: [0, 2]}
+  - {name: weight, shape: {type: circle, radius: 0.1}, position: [1, 2]}
+  - {name: loose, shape: {type: circle, radius: 0.1}, position: [3, 1]}
+joints:
+  - {name: thread, type: revolute, bodies: [hook, bob], anchor: [-2, 2], break_force: 0.001}
+  - {name: arm, type: revolute, bodies: [pivot, weight], anchor: [0, 2], break_force: 0.06}
+measures:
+  - {name: snapped, first: {event: joint_break, bodies: [pivot, weight]}}
+  - {name: weight_free, first: {event: joint_break, bodies: [weight]}}
+  - {name: any_break, first: {event: joint_break}}
+"""
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_a_joint_break_of_the_named_bodies_is_measured_and_stops_the_run(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    # the thread breaks in tick 1 under the bob's weight (0.03 N); the arm, a pendulum let go level,
+    # once its tension (3 m g cos of the swing from the vertical) passes 0.06 N, about two bob weights
+    summary = run(cli, write(tmp_path, SNAP), tmp_path / "snap.h5")
+    with h5py.File(tmp_path / "snap.h5", "r") as file:
+        joints = list(file["joints/name"].asstr()[()])
+        rows, ticks = file["events/body_a"][()], file["events/tick"][()]  # body_a: the joint's row
+        breaks = {joints[row]: int(tick) for row, tick in zip(rows, ticks, strict=True)}
+        assert set(file["events/kind"].asstr()[()]) == {"joint_break"}
+    assert breaks["thread"] == 1 and breaks["arm"] > 20
+    measures = summary["measures"]
+    assert measures["snapped"] == pytest.approx(breaks["arm"] / 240)  # not the thread's, which came first
+    assert measures["weight_free"] == measures["snapped"]
+    assert measures["any_break"] == pytest.approx(1 / 240)
+
+    stopping = SNAP.replace("world: {tick_rate: 240, duration: 1.0}",
+                            "world:\n  tick_rate: 240\n  duration: 1.0\n"
+                            "  stop_when:\n    - {event: joint_break, bodies: [weight, pivot]}")
+    stopped = run(cli, write(tmp_path, stopping, "stop.yaml"), tmp_path / "stop.h5", "--every", "50")
+    assert stopped["status"] == "stopped" and stopped["ticks"] == breaks["arm"]
+    assert stopped["stop_reason"] == '{"event": "joint_break", "bodies": ["weight", "pivot"]}'
+    with h5py.File(tmp_path / "stop.h5", "r") as file:
+        assert file["particles/bodies/position/step"][-1] == breaks["arm"]
+
+
+def test_a_joint_break_of_bodies_no_joint_joins_at_its_file_line_column(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    text = SNAP.replace("world: {tick_rate: 240, duration: 1.0}", "world:\n  duration: 1.0\n  stop_when:\n"
+                        "    - {event: joint_break, bodies: [bob, pivot]}")
+    text = text.replace("[pivot, weight]}}", "[hook, weight]}}").replace("[weight]}}", "[loose]}}")
+    scene = write(tmp_path, text + "  - {name: touch, first: {event: contact_begin, bodies: [bob, loose]}}\n")
+    result = cli("validate", scene)
+    assert result.exit_code == 2
+    why = "(a joint_break's bodies name the joints that join them)"
+    assert result.stderr.strip().splitlines() == [
+        f"{scene}:5:36: world.stop_when.0.bodies: no joint joins 'bob' and 'pivot' {why}",
+        f"{scene}:18:57: measures.snapped.first.bodies: no joint joins 'hook' and 'weight' {why}",
+        f"{scene}:19:61: measures.weight_free.first.bodies: no joint joins 'loose' {why}",
+    ]
