@@ -198,19 +198,6 @@ def test_player_draws_every_shape_kind_and_picks_bodies_by_their_shapes(cli, bro
     assert problems == []
 
 
-SENSOR_DROP = """\
-name: sensor-drop
-world: {tick_rate: 60, ticks: 60}
-forces:
-  - {name: gravity, acceleration: [0, -9.81]}
-bodies:
-  - {name: floor, type: static, shape: {type: aabb, width: 4, height: 0.2}, position: [0, -0.1]}
-  - {name: goal, type: static, material: plastic, position: [0, 1],
-     shape: {type: aabb, width: 1, height: 0.5, sensor: true}}
-  - {name: ball, shape: {type: circle, radius: 0.1}, position: [0, 2]}
-"""
-
-
 def embedded(page_text: str) -> tuple[dict, dict[str, bytes]]:
     """The player's JSON header and its base64 arrays (as bytes)."""
     import base64
@@ -220,20 +207,6 @@ def embedded(page_text: str) -> tuple[dict, dict[str, bytes]]:
     blobs = {m[1]: base64.b64decode(m[2]) for m in re.finditer(
         r'<script type="application/octet-stream" id="rustycs-(\w+)">(.*?)</script>', page_text)}
     return header, blobs
-
-
-@pytest.fixture(scope="module")
-def sensor_drop(run_scene) -> tuple[Path, int, int]:
-    """A ball falling through a sensor box (output.events off: the sensor events are there anyway), and
-    the ticks it entered and left."""
-    import h5py
-
-    path = run_scene(SENSOR_DROP)
-    with h5py.File(path, "r") as file:
-        kinds = list(file["events/kind"].asstr()[()])
-        ticks = list(file["events/tick"][()])
-    assert kinds == ["sensor_enter", "sensor_exit"]
-    return path, int(ticks[0]), int(ticks[1])
 
 
 def test_player_data_lights_sensors_while_occupied_and_marks_events(cli, sensor_drop, tmp_path: Path):

@@ -1,5 +1,5 @@
-"""What the player shows of a run's /events: which sensor bodies hold something at each shown frame, and
-where events happened, as marks on the scrub bar.
+"""What the player and the pictures show of a run's /events: which sensor bodies hold something at each
+shown frame, and (in the player) where events happened, as marks on the scrub bar.
 
 Occupancy is counted from the sensor events, which every trajectory holds whatever `output.events` says
 (only contact events depend on it): the engine tests sensors on every tick, so the count at a frame is
@@ -17,6 +17,8 @@ from .colors import EVENT_COLORS, OTHER_EVENT, hex_color
 
 if TYPE_CHECKING:
     import h5py
+
+    from .bodies import Outlines, RunInfo
 
 
 def read_events(file: h5py.File) -> dict[str, np.ndarray]:
@@ -38,6 +40,19 @@ def sensor_occupancy(events: dict[str, np.ndarray], sensor_bodies: list[int],
         left = np.sort(events["tick"][mine & (events["kind"] == "sensor_exit")])
         inside = np.searchsorted(entered, steps, "right") - np.searchsorted(left, steps, "right")
         lit[:, k] = inside > 0
+    return lit
+
+
+def sensor_bodies(outlines: Outlines) -> list[int]:
+    """The bodies with a sensor shape, in order."""
+    return sorted({int(body) for body in outlines.body[outlines.sensor]})
+
+
+def lit_sensors(file: h5py.File, run: RunInfo, steps: np.ndarray) -> np.ndarray:
+    """[F, N] bool: true for a sensor body that holds at least one body at the frame of tick steps[f]."""
+    bodies = sensor_bodies(run.outlines)
+    lit = np.zeros((len(steps), len(run.names)), bool)
+    lit[:, bodies] = sensor_occupancy(read_events(file), bodies, steps) == 1
     return lit
 
 

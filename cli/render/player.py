@@ -20,7 +20,7 @@ import numpy as np
 from . import colors
 from .bodies import RunInfo
 from .colors import hex_color
-from .events import event_marks, read_events, sensor_occupancy
+from .events import event_marks, read_events, sensor_bodies, sensor_occupancy
 from .frames import iter_blocks
 from .joints import ZIGZAG_TEETH, ZIGZAG_WIDTH
 from .raster import VELOCITY_SECONDS, Overlays
@@ -53,8 +53,8 @@ def write_player(
     arrays["jointActive"] = run.joints.active[frames.start :: frames.step].astype(np.uint8)
     steps = run.steps[frames.start :: frames.step]
     events = read_events(file)
-    sensor_bodies = sorted({int(b) for b in run.outlines.body[run.outlines.sensor]})
-    arrays["sensorLit"] = sensor_occupancy(events, sensor_bodies, steps)
+    sensors = sensor_bodies(run.outlines)
+    arrays["sensorLit"] = sensor_occupancy(events, sensors, steps)
     header = {
         "source": run.source,
         "bodies": _bodies(run),
@@ -75,7 +75,7 @@ def write_player(
         "note": note,
         "velocitySeconds": VELOCITY_SECONDS,
         "overlays": asdict(overlays),
-        "sensorBodies": sensor_bodies,  # the columns of sensorLit: 1 while something is inside
+        "sensorBodies": sensors,  # the columns of sensorLit: 1 while something is inside
         "eventMarks": event_marks(events, steps),
     }
     blobs = {name: _base64(array) for name, array in {**arrays, **(contacts or {})}.items()}
