@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 from .scene import Scene  # before the modules below, whose models the scene's models import
 from .scene_emitters import emitted_bodies
-from .scene_measures import Inside, OnEvent, describe_condition, split_of
+from .scene_measures import Inside, OnEvent, describe_condition, joints_joining, split_of
 
 if TYPE_CHECKING:
     import rustycs
@@ -24,10 +24,12 @@ class RunPlan:
     scene: Scene
     spawn_ticks: list[int]
     remove_ticks: list[int | None]
+    if_free: list[bool]  # appears only where its place is free (an emitter's placement: no_overlap)
     emitted: dict[str, list[str]]  # emitter name -> its bodies
 
     def timing(self, index: int) -> dict[str, Any]:
-        return {"spawn_tick": self.spawn_ticks[index], "remove_tick": self.remove_ticks[index]}
+        return {"spawn_tick": self.spawn_ticks[index], "remove_tick": self.remove_ticks[index],
+                "if_free": self.if_free[index]}
 
 
 def plan_run(scene: Scene, ticks: int) -> RunPlan:
@@ -36,7 +38,7 @@ def plan_run(scene: Scene, ticks: int) -> RunPlan:
     listed = len(scene.bodies)
     return RunPlan(scene.model_copy(update={"bodies": [*scene.bodies, *emitted.bodies]}),
                    [0] * listed + emitted.spawn_ticks, [None] * listed + emitted.remove_ticks,
-                   emitted.by_emitter)
+                   [False] * listed + emitted.if_free, emitted.by_emitter)
 
 
 class _Sets:
@@ -92,9 +94,8 @@ def attach(world: rustycs.World, plan: RunPlan, contact_events: bool) -> None:
         timing = ({"reduce": "at", "at_tick": round(measure.at * rate)} if measure.at is not None
                   else {"reduce": measure.reduce})
         if measure.first is not None:
-            rows = [sets.named([name]) for name in measure.first.bodies]
-            world.add_measure("first", event=measure.first.event, bodies=rows[0] if rows else [],
-                              others=rows[1] if len(rows) > 1 else [])
+            bodies, others = _event_rows(world, sets, measure.first.event, measure.first.bodies)
+            world.add_measure("first", event=measure.first.event, bodies=bodies, others=others)
         elif measure.time_inside is not None:
             world.add_measure("time_inside", bodies=sets.named(measure.time_inside.bodies),
                               sensor=sets.row[measure.time_inside.sensor])
@@ -116,15 +117,28 @@ def attach(world: rustycs.World, plan: RunPlan, contact_events: bool) -> None:
                                   aggregate="one" if one else measure.aggregate or "mean", **timing)
     for condition in scene.world.stop_when:
         if isinstance(condition, OnEvent):
-            rows = [sets.named([name]) for name in condition.bodies]
-            world.add_stop_condition("event", event=condition.event, bodies=rows[0] if rows else [],
-                                     others=rows[1] if len(rows) > 1 else [])
+            bodies, others = _event_rows(world, sets, condition.event, condition.bodies)
+            world.add_stop_condition("event", event=condition.event, bodies=bodies, others=others)
         elif isinstance(condition, Inside):
             world.add_stop_condition("inside", sensor=sets.row[condition.inside],
                                      bodies=sets.named(condition.bodies),
                                      hold_ticks=round(condition.for_ * rate))
         else:
             world.add_stop_condition("at_rest", hold_ticks=round(condition.at_rest * rate))
+
+
+def _event_rows(world: rustycs.World, sets: _Sets, event: str,
+                names: list[str]) -> tuple[list[int], list[int]]:
+    """The engine's two lists of an event's `bodies` (one or two names): body rows, the event between one
+    of each when there are two lists. A joint_break names its joint in place of a body, so its names
+    become the rows of the joints joining those bodies, one list."""
+    rows = [sets.named([name]) for name in names]
+    if event == "joint_break" and rows:
+        pairs = [(int(a), int(b)) for a, b in world.joint_bodies]
+        joints = joints_joining(pairs, [set(r) for r in rows])
+        assert joints, "a scene check reports bodies with no joint between them"
+        return joints, []  # else an empty list: any joint
+    return (rows[0] if rows else []), (rows[1] if len(rows) > 1 else [])
 
 
 def stop_reason(world: rustycs.World, scene: Scene) -> str | None:
@@ -137,6 +151,30 @@ def measure_results(world: rustycs.World, scene: Scene) -> dict[str, Any]:
     """Each measure by name: a number, None, or a histogram's counts."""
     return {measure.name: (None if isinstance(value, float) and not math.isfinite(value) else value)
             for measure, value in zip(scene.measures, world.measure_results(), strict=True)}
+
+
+def emitter_counts(world: rustycs.World, plan: RunPlan) -> dict[str, dict[str, int]]:
+    """Per emitter: its bodies that appeared by the world's tick, and those skipped (placement:
+    no_overlap) because their place was taken."""
+    skipped = world.skipped
+    row = {body.name: i for i, body in enumerate(plan.scene.bodies)}
+    counts = {}
+    for emitter, names in plan.emitted.items():
+        due = [row[name] for name in names if plan.spawn_ticks[row[name]] <= world.tick]
+        missed = int(sum(skipped[i] for i in due))
+        counts[emitter] = {"appeared": len(due) - missed, "skipped": missed}
+    return counts
+
+
+def summary_columns(summary: dict[str, Any]) -> dict[str, Any]:
+    """The summary as flat columns (HDF5 attributes, the `rustycs run` table, a sweep's rows): its
+    measures as `measure.<name>` (`measure_columns`), its emitters' counts as `emitter.<name>.appeared`
+    and `emitter.<name>.skipped`."""
+    columns = {key: value for key, value in summary.items() if key not in ("measures", "emitters")}
+    columns.update(measure_columns(summary.get("measures") or {}))
+    for emitter, counts in (summary.get("emitters") or {}).items():
+        columns.update({f"emitter.{emitter}.{key}": count for key, count in counts.items()})
+    return columns
 
 
 def measure_columns(measures: dict[str, Any]) -> dict[str, Any]:

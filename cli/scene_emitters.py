@@ -3,13 +3,14 @@
 An emitter's bodies are drawn like a generator's (one random stream per emitter, from the scene's seed
 and the emitter's name) when the run starts, as many as can appear in the run; each has the tick it
 appears in, one every round(tick_rate / rate) ticks from `start`. The engine reserves their rows and
-switches each on in its tick (`rustycs.emitters`).
+switches each on in its tick (`rustycs.emitters`), or with `placement: no_overlap` skips it when its place
+is taken then.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import Field, model_validator
 from pydantic_core import PydanticCustomError
@@ -59,6 +60,10 @@ class Emitter(_Model):
     count: int | None = Field(None, ge=0, description="At most this many bodies in all.", examples=[200])
     lifetime: float | None = Field(None, gt=0, description="Each body is removed this long after it "
                                    "appeared, s. Default: it stays.", examples=[3.0])
+    placement: Literal["free", "no_overlap"] = Field(
+        "free", description="free: every body appears; no_overlap: a body whose bounding circle would "
+        "overlap a collidable shape of a body present when it is due is skipped (it never appears; "
+        "counted in the summary, `emitter.<name>.skipped`).", examples=["no_overlap"])
 
     @model_validator(mode="after")
     def _placed(self) -> Emitter:
@@ -94,6 +99,7 @@ class Emitted:
     bodies: list[Body]
     spawn_ticks: list[int]
     remove_ticks: list[int | None]
+    if_free: list[bool]  # each appears only where its place is free (placement: no_overlap)
     by_emitter: dict[str, list[str]]  # emitter name -> its bodies' names
 
 
@@ -117,6 +123,7 @@ def emitted_bodies(scene: Scene, ticks: int) -> Emitted:
     bodies: list[Body] = []
     spawn: list[int] = []
     remove: list[int | None] = []
+    if_free: list[bool] = []
     by_emitter: dict[str, list[str]] = {}
     rate = scene.world.tick_rate
     for emitter in getattr(scene, "emitters", []):
@@ -136,5 +143,6 @@ def emitted_bodies(scene: Scene, ticks: int) -> Emitted:
             names.append(body["name"])
             spawn.append(tick)
             remove.append(None if emitter.lifetime is None else tick + max(1, round(emitter.lifetime * rate)))
+            if_free.append(emitter.placement == "no_overlap")
         by_emitter[emitter.name] = names
-    return Emitted(bodies, spawn, remove, by_emitter)
+    return Emitted(bodies, spawn, remove, if_free, by_emitter)

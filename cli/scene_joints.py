@@ -333,6 +333,27 @@ def default_joint_name(kind: Any, index: int) -> str:
     return f"{kind}-{index}"
 
 
+def written_joint_bodies(data: Mapping[str, Any]) -> list[tuple[str | None, str | None]]:
+    """The two bodies of each joint of the raw scene data, by name, as the engine's rows take them: None
+    for the fixed world (or what is not a name); a gear's bodies are its joints' second bodies."""
+    listed = data.get("joints")
+    pairs: list[tuple[str | None, str | None]] = []
+    second: dict[str, str | None] = {}  # joint name -> its second body
+    for j, joint in enumerate(listed if isinstance(listed, list) else []):
+        joint = joint if isinstance(joint, dict) else {}
+        named = joint.get("joints") if joint.get("type") == "gear" else joint.get("bodies")
+        if not (isinstance(named, list) and len(named) == 2):
+            named = [None, joint.get("body")]
+        elif joint.get("type") == "gear":
+            named = [second.get(other) if isinstance(other, str) else None for other in named]
+        a, b = (name if isinstance(name, str) else None for name in named)
+        pairs.append((a, b))
+        name = joint.get("name", default_joint_name(joint.get("type"), j))
+        if isinstance(name, str):
+            second[name] = b
+    return pairs
+
+
 def joint_problems(data: Mapping[str, Any], body_names: Sequence[str]) -> list[Problem]:
     """Problems of the joints that involve other entries: duplicate joint names, unknown bodies, and gears
     naming joints that are unknown or not revolute or prismatic. Works on the raw scene data."""

@@ -10,7 +10,7 @@ A measure names what it measures as a dotted path: `bodies.<name>`, `generators.
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Collection, Hashable, Mapping, Sequence
 from typing import Any, Literal
 
 from pydantic import ConfigDict, Field, model_validator
@@ -35,7 +35,8 @@ class FirstEvent(_Model):
         [],
         max_length=2,
         description="One or two body names (or a generator or emitter: any of its bodies); with two, the "
-        "event is between one of each. Empty: any event of the kind.",
+        "event is between one of each. A joint_break names the joints: those joining the two, or with one "
+        "name, any joint of its bodies. Empty: any event of the kind.",
         examples=[["ball", "floor"]],
     )
 
@@ -134,7 +135,8 @@ class OnEvent(_Model):
     event: EventKind = Field(description="The event kind.", examples=["contact_begin"])
     bodies: list[str] = Field(
         [], max_length=2, description="One or two body, generator or emitter names, as in a measure's "
-        "`first`. Empty: any event of the kind.", examples=[["ball", "floor"]]
+        "`first` (for a joint_break, the joints joining them). Empty: any event of the kind.",
+        examples=[["ball", "floor"]]
     )
 
 
@@ -216,6 +218,18 @@ def split_of(of: str, names: Mapping[str, set[str]]) -> tuple[str, str, str] | N
     return kind, name, rest[len(name) + 1:]
 
 
+def joints_joining(joints: Sequence[tuple[Hashable, Hashable]],
+                   sets: Sequence[Collection[Hashable]]) -> list[int]:
+    """The joints (indices into `joints`, each its two bodies) that a joint_break's `bodies` name, each
+    name given as its set of bodies: with one, every joint with a body in it; with two, every joint with a
+    body in each."""
+    if len(sets) == 1:
+        return [j for j, (a, b) in enumerate(joints) if a in sets[0] or b in sets[0]]
+    first, second = sets
+    return [j for j, (a, b) in enumerate(joints)
+            if (a in first and b in second) or (a in second and b in first)]
+
+
 def measure_problems(data: Mapping[str, Any], bodies: Mapping[str, int],
                      generators: Mapping[str, int]) -> list[Problem]:
     """Measures and stop conditions that name an unknown body, generator, emitter, quantity or sensor, a
@@ -258,6 +272,26 @@ def measure_problems(data: Mapping[str, Any], bodies: Mapping[str, int],
             why = "is not a sensor (it has no shape with sensor: true)" if name in known else "is not a body"
             problems.append((loc, f"'{name}' {why}{did_you_mean(name, sorted(sensors))}"))
 
+    from .scene_joints import written_joint_bodies  # scene_joints imports the scene, which imports this
+
+    joints = written_joint_bodies(data)
+    jointed = {name for pair in joints for name in pair if name is not None}
+
+    def joined(name: str) -> set[str]:  # the jointed bodies a name stands for (emitted bodies have none)
+        if name in names["bodies"] or name not in names["generators"]:
+            return {name} & jointed
+        return {b for b in jointed if re.fullmatch(re.escape(name) + r"-\d+", b)}
+
+    def check_joints(spec: Mapping[str, Any], loc: tuple) -> None:  # a joint_break names joints by bodies
+        listed = spec.get("bodies")
+        if (spec.get("event") != "joint_break" or not isinstance(listed, list) or not listed
+                or not all(isinstance(name, str) and known(name) for name in listed)):
+            return
+        if not joints_joining(joints, [joined(name) for name in listed]):
+            written = " and ".join(f"'{name}'" for name in listed)
+            problems.append((loc, f"no joint joins {written} (a joint_break's bodies name the joints "
+                                  "that join them)"))
+
     listed = data.get("measures")
     seen: dict[str, int] = {}
     for i, measure in enumerate(listed if isinstance(listed, list) else []):
@@ -277,6 +311,8 @@ def measure_problems(data: Mapping[str, Any], bodies: Mapping[str, int],
         for form in ("first", "time_inside"):
             if isinstance(measure.get(form), dict):
                 check_names(measure[form].get("bodies"), ("measures", i, form, "bodies"))
+        if isinstance(measure.get("first"), dict):
+            check_joints(measure["first"], ("measures", i, "first", "bodies"))
         if isinstance(measure.get("time_inside"), dict):
             check_sensor(measure["time_inside"].get("sensor"), ("measures", i, "time_inside", "sensor"))
     world = data.get("world")
@@ -287,6 +323,7 @@ def measure_problems(data: Mapping[str, Any], bodies: Mapping[str, int],
         for c, condition in enumerate(stop_when if isinstance(stop_when, list) else []):
             if isinstance(condition, dict):
                 check_names(condition.get("bodies"), ("world", "stop_when", c, "bodies"))
+                check_joints(condition, ("world", "stop_when", c, "bodies"))
                 if "inside" in condition:
                     check_sensor(condition["inside"], ("world", "stop_when", c, "inside"))
     return problems

@@ -79,7 +79,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
         writing_errors,
     )
     from .run_pace import Pace
-    from .scenario import attach, measure_columns, measure_results, plan_run, stop_reason
+    from .scenario import attach, emitter_counts, measure_results, plan_run, stop_reason, summary_columns
     from .summary import SummaryTracker, energy_conservation, sidecar_path, to_json, write_text_atomic
     from .trajectory import (
         BLOCK_FRAMES,
@@ -165,8 +165,9 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
             summary = tracker.summary(
                 scene=scene.name, scene_sha256=loaded.sha256, status=status, seed=scene.seed, dt=world.dt,
                 wall_seconds=time.perf_counter() - started, step_seconds=step_seconds,
-                divergence=message if status == "diverged" else None)
-            summary.update(stop_reason=stop_reason(world, scene), measures=measure_results(world, scene))
+                divergence=message if status == "diverged" else None, escaped=world.escaped_count)
+            summary.update(stop_reason=stop_reason(world, scene), measures=measure_results(world, scene),
+                           emitters=emitter_counts(world, plan))
             parameters = {
                 "scene_sha256": loaded.sha256, "seed": scene.seed, "rustycs_version": package_version(),
                 "status": status, "ticks_completed": summary["ticks"], "dt": world.dt,
@@ -176,10 +177,9 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
                 "gravitational_constant": scene.world.gravitational_constant, "frames": summary["frames"],
                 "divergence": summary["divergence"], "stop_reason": summary["stop_reason"],
             }
-            attributes = {key: value for key, value in summary.items() if key != "measures"}
             sidecar = sidecar_path(out)
             sidecar.unlink(missing_ok=True)  # never a new trajectory beside an older run's summary
-            writer.finish(parameters, {**attributes, **measure_columns(summary["measures"])})
+            writer.finish(parameters, summary_columns(summary), world.spawn_ticks)
         write_text_atomic(sidecar, to_json(summary) + "\n")
     return RunResult(out, sidecar, summary, status, EXIT_CODES[status], message)
 

@@ -69,6 +69,8 @@ DESCRIPTIONS = {  # key: meaning, in output order (documents every statistic)
     "divergence": "where a non-finite value appeared (diverged runs)",
     "stop_reason": "the world.stop_when condition that ended the run (stopped runs), as written",
     "measures": "the scene's measures by name: a number, null, or a histogram's counts per bin",
+    "emitters": "per emitter by name: `appeared`, its bodies that appeared, and `skipped`, those that did "
+    "not because their place was taken (placement: no_overlap)",
 }
 
 
@@ -114,8 +116,12 @@ class SummaryTracker:
         self.max_speed = max(self.max_speed, float(observed["max_speed"].max()))
 
     def summary(self, *, scene: str, scene_sha256: str, status: str, seed: int, dt: float,
-                wall_seconds: float, step_seconds: float, divergence: str | None = None) -> dict[str, Any]:
-        """The statistics as a flat dict of str/int/float (None where undefined), in DESCRIPTIONS order."""
+                wall_seconds: float, step_seconds: float, divergence: str | None = None,
+                escaped: int | None = None) -> dict[str, Any]:
+        """The statistics as a flat dict of str/int/float (None where undefined), in DESCRIPTIONS order.
+        `escaped`: the engine's count of bodies that left the bounds, where known; else the dynamic bodies
+        inactive at the end (which also counts those a sink or a lifetime removed, and emitted ones not
+        there yet or skipped)."""
         import numpy as np
 
         first, last = self.first, self.last
@@ -124,7 +130,7 @@ class SummaryTracker:
         start, end = first.observables, last.observables
         energy_start = float(start["kinetic_energy"]) + float(start["potential_energy"])
         energy_change = float(end["kinetic_energy"]) + float(end["potential_energy"]) - energy_start
-        escaped = int((self.dynamic & ~last.active).sum())
+        escaped = int((self.dynamic & ~last.active).sum()) if escaped is None else escaped
         conserved = escaped == 0 and (self.conservation == CONSERVED or (
             self.conservation == CONSERVED_WITHOUT_CONTACTS and self.total_contacts == 0))
         energy_drift = energy_change if conserved else None
@@ -229,9 +235,9 @@ def summary_table(summary: dict[str, Any], title: str) -> Table:
     table = Table(title=title, show_header=False, title_justify="left")
     table.add_column("statistic", style="bold")
     table.add_column("value", overflow="fold")
-    from .scenario import measure_columns
+    from .scenario import summary_columns
 
-    for key, value in {**summary, **measure_columns(summary.get("measures") or {})}.items():
-        if value is not None and key != "measures":
+    for key, value in summary_columns(summary).items():
+        if value is not None:
             table.add_row(key, f"{value:.6g}" if isinstance(value, float) else str(value))
     return table

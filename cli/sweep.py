@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from .errors import UserError
-from .scenario import measure_columns
+from .scenario import summary_columns
 from .sweep_sampling import SampledRow
 from .sweep_values import SweptKey
 
@@ -419,8 +419,7 @@ class SweepResult:
             row["output"] = str(variant.task.output)
             row["skipped"] = bool(outcome and outcome.skipped)
             row["error"] = outcome.error if outcome else None
-            summary = dict(outcome.summary) if outcome else {}
-            summary.update(measure_columns(summary.pop("measures", None) or {}))
+            summary = summary_columns(outcome.summary) if outcome else {}
             for key, value in summary.items():
                 row.setdefault(key, value)
             rows.append(row)

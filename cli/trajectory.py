@@ -452,13 +452,16 @@ class TrajectoryWriter:
             found += [self._offset, *self._contacts.values()]
         return found
 
-    def finish(self, parameters: dict[str, Any], summary: dict[str, Any]) -> Path:
-        """Write the remaining frames, /parameters and /parameters/summary attrs; rename; return the path.
+    def finish(self, parameters: dict[str, Any], summary: dict[str, Any], spawn_ticks: Any = None) -> Path:
+        """Write the remaining frames, /parameters and /parameters/summary attrs, and the bodies'
+        `spawn_tick` as the run ended (-1 for emitted bodies that were skipped); rename; return the path.
 
         None values are left out (HDF5 attributes have no null).
         """
         try:
             self._flush()
+            if spawn_ticks is not None:
+                self._file["particles/bodies/spawn_tick"][...] = spawn_ticks
             group = self._file["parameters"]
             _set_attrs(group, parameters)
             _set_attrs(group.create_group("summary", track_order=True), summary)

@@ -84,6 +84,16 @@ def fatten(bodies, shapes, geometry, pairs):
 
 
 @njit(cache=True, inline="always")
+def filters_agree(shapes, i, j):
+    """Whether the collision filters of shapes i and j let them touch: no shared non-zero group, each
+    one's category in the other's mask."""
+    group = shapes.group
+    if group[i] != 0 and group[i] == group[j]:
+        return False
+    return (shapes.category[i] & shapes.mask[j]) != 0 and (shapes.category[j] & shapes.mask[i]) != 0
+
+
+@njit(cache=True, inline="always")
 def may_collide(shapes, bodies, joints, joint_filter, i, j):
     """Whether shapes i and j may touch: of two bodies, at least one movable, not held apart by an
     active joint, neither a sensor, and the filters agree (no shared non-zero group; each one's category
@@ -92,12 +102,7 @@ def may_collide(shapes, bodies, joints, joint_filter, i, j):
     b = shapes.body[j]
     if a == b or (bodies.inv_mass[a] == 0.0 and bodies.inv_mass[b] == 0.0):
         return False
-    if shapes.sensor[i] or shapes.sensor[j]:
-        return False
-    group = shapes.group
-    if group[i] != 0 and group[i] == group[j]:
-        return False
-    if (shapes.category[i] & shapes.mask[j]) == 0 or (shapes.category[j] & shapes.mask[i]) == 0:
+    if shapes.sensor[i] or shapes.sensor[j] or not filters_agree(shapes, i, j):
         return False
     for k in range(joint_filter.first[a], joint_filter.first[a + 1]):
         if joint_filter.partner[k] == b and joints.active[joint_filter.joint[k]]:

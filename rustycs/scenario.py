@@ -34,7 +34,7 @@ def events_bound(n_sensor_bodies, n_bodies, n_joints, n_manifolds, n_touching):
 def after_tick(scenario, bodies, shapes, forces, points, n_points, events, first_event, tick, dt):
     """Everything but the physics at the end of `tick`, whose events so far are events[first_event:];
     returns the first stop condition that holds (-1: none)."""
-    appear_and_vanish(scenario.life, bodies, tick, events)
+    appear_and_vanish(scenario.life, bodies, shapes, tick, events)
     if scenario.sensors.body.shape[0] > 0:
         sense(scenario.sensors, bodies, shapes, tick, events)
     if scenario.measures.form.shape[0] > 0:

@@ -138,14 +138,16 @@ class World(BodyControl, WorldQueries, WorldScenario):
                  angular_damping: float = defaults.ANGULAR_DAMPING,
                  gravity_scale: float = defaults.GRAVITY_SCALE, fixed_rotation: bool = False,
                  bullet: bool = False, name: str | None = None, spawn_tick: int = 0,
-                 remove_tick: int | None = None) -> int:
+                 remove_tick: int | None = None, if_free: bool = False) -> int:
         """Add a body made of one shape or several and return its index; `name` (unique, default
         `<shape type>-<index>`, "compound-<index>" for several shapes) names it in `body_names`.
         `position` is the body origin (the shapes' offsets and a polygon's vertices are relative to it);
         the body rotates about its centre of mass. A dynamic body needs a shape with area; `mass` scales
         the shapes' masses (area x density) to the given total. A body with `spawn_tick` > 0 is inactive
         until the end of that tick (an emitted body: its row is reserved now); with `remove_tick`, it is
-        removed at the end of that tick."""
+        removed at the end of that tick; with `if_free`, it appears only if no collidable shape of an
+        active body is within its bounding circle then (at tick 0: when the first step's inputs are built,
+        in row order), and is otherwise skipped for good (`skipped`)."""
         one = isinstance(shapes, (Circle, Box, Polygon, Capsule, Segment, Chain))
         shapes = [shapes] if one else list(shapes)
         if not shapes:
@@ -178,7 +180,7 @@ class World(BodyControl, WorldQueries, WorldScenario):
         rotates = moves and not fixed_rotation
         c, s = math.cos(angle), math.sin(angle)
         center = np.asarray(position, dtype=np.float64) + np.array([[c, -s], [s, c]]) @ props.center
-        present = self._timing(spawn_tick, remove_tick)
+        present = self._timing(spawn_tick, remove_tick, if_free)
         index = self._bodies.rows
         first_shape = self._shapes.rows
         extent = 0.0

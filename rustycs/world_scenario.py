@@ -7,7 +7,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from rustycs.emitters import NEVER, new_lifecycle
+from rustycs.emitters import NEVER, new_lifecycle, place_at_start
 from rustycs.events import CONTACT_BEGIN, CONTACT_END, EVENT_KIND_NAMES
 from rustycs.measures import MeasureBook, finish, fold
 from rustycs.pieces import MAX_VERTICES
@@ -27,18 +27,21 @@ class WorldScenario:
         self.stop_condition: int | None = None  # the stop condition that ended the last `step`, if any
         self._spawn_tick: list[int] = []
         self._remove_tick: list[int] = []
+        self._if_free: list[bool] = []
+        self._skipped = np.zeros(0, np.bool_)  # filled by the step; kept when the kernels' inputs are rebuilt
         self._sinks: list[list[float]] = []
         self._measures = MeasureBook()
         self._stops = StopBook()
         self._measured = None  # the compiled measures, kept from step to step
         self._initial_folded = False
 
-    def _timing(self, spawn_tick: int, remove_tick: int | None) -> bool:
+    def _timing(self, spawn_tick: int, remove_tick: int | None, if_free: bool) -> bool:
         """Keep when a new body appears and goes; returns whether it is there from the start."""
         if spawn_tick < 0 or (remove_tick is not None and remove_tick <= spawn_tick):
             raise ValueError("a body appears at a tick >= 0 and is removed after it appears")
         self._spawn_tick.append(int(spawn_tick))
         self._remove_tick.append(NEVER if remove_tick is None else int(remove_tick))
+        self._if_free.append(bool(if_free))
         return spawn_tick == 0
 
     def add_sink(self, lower, upper) -> None:
@@ -85,8 +88,16 @@ class WorldScenario:
 
     @property
     def spawn_ticks(self) -> np.ndarray:
-        """(N,) the tick at whose end each body appears (0: there from the start)."""
-        return np.array(self._spawn_tick, dtype=np.int64)
+        """(N,) the tick at whose end each body appears (0: there from the start; -1: a body `skipped`,
+        that never appears)."""
+        return np.where(self.skipped, -1, np.array(self._spawn_tick, dtype=np.int64))
+
+    @property
+    def skipped(self) -> np.ndarray:
+        """(N,) bool: the bodies added with `if_free` that did not appear, their place being taken."""
+        skipped = np.zeros(len(self._spawn_tick), np.bool_)
+        skipped[: len(self._skipped)] = self._skipped
+        return skipped
 
     def _records_contacts(self) -> bool:
         rows = (*self._measures.rows, *self._stops.rows)
@@ -98,8 +109,12 @@ class WorldScenario:
         while the world is the same)."""
         if self._measured is None:
             self._measured = self._measures.compiled()
+        self._skipped = self.skipped  # a row for every body, those skipped so far kept
         life = new_lifecycle(np.array(self._spawn_tick, np.int64), np.array(self._remove_tick, np.int64),
-                             np.array(self._sinks, np.float64))
+                             np.array(self._sinks, np.float64), np.array(self._if_free, np.bool_),
+                             self._skipped)
+        if self.tick == 0:
+            place_at_start(life, bodies, shapes)
         return Scenario(life, new_sensors(bodies, shapes, MAX_VERTICES), self._measured,
                         self._stops.compiled())
 

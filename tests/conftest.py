@@ -57,6 +57,19 @@ bodies:
 """
 
 
+SENSOR_DROP = """\
+name: sensor-drop
+world: {tick_rate: 60, ticks: 60}
+forces:
+  - {name: gravity, acceleration: [0, -9.81]}
+bodies:
+  - {name: floor, type: static, shape: {type: aabb, width: 4, height: 0.2}, position: [0, -0.1]}
+  - {name: goal, type: static, material: plastic, position: [0, 1],
+     shape: {type: aabb, width: 1, height: 0.5, sensor: true}}
+  - {name: ball, shape: {type: circle, radius: 0.1}, position: [0, 2]}
+"""
+
+
 @pytest.fixture(scope="session")
 def compiled_engine() -> None:
     """Compile (or load from the disk cache) the engine's kernels once, before runs that are timed or
@@ -124,3 +137,17 @@ def run_scene(tmp_path_factory: pytest.TempPathFactory, compiled_engine: None) -
         return made[(text, args)]
 
     return run
+
+
+@pytest.fixture(scope="session")
+def sensor_drop(run_scene: Callable[..., Path]) -> tuple[Path, int, int]:
+    """A ball falling through a sensor box (output.events off: the sensor events are there anyway), and
+    the ticks it entered and left."""
+    import h5py
+
+    path = run_scene(SENSOR_DROP)
+    with h5py.File(path, "r") as file:
+        kinds = list(file["events/kind"].asstr()[()])
+        ticks = list(file["events/tick"][()])
+    assert kinds == ["sensor_enter", "sensor_exit"]
+    return path, int(ticks[0]), int(ticks[1])

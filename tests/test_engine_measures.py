@@ -137,3 +137,29 @@ def test_extremes_and_means_over_the_ticks_of_a_free_fall() -> None:
     assert results[apex] == pytest.approx(5.0**2 / (2 * G), rel=0.01)  # the integrator's own error
     assert results[lowest] == pytest.approx(world.positions[0, 1]) and results[start] == 5.0
     assert results[mean_vx] == pytest.approx(1.0, rel=1e-12) and results[at] == pytest.approx(0.5, rel=1e-12)
+
+
+def test_if_free_bodies_appear_only_where_nothing_collidable_is() -> None:
+    world = rustycs.World(tick_rate=60)  # no forces: nothing moves
+    world.add_body(rustycs.Box(20.0, 1.0), position=(0, -0.5), body_type="static")  # top at y = 0
+    world.add_body(rustycs.Box(0.2, 0.2, sensor=True), position=(5, 2), body_type="static")  # no obstacle
+    blocker = world.add_body(rustycs.Circle(0.5), position=(3, 1), collision_group=-2)
+    tap = [world.add_body(rustycs.Circle(0.5), position=(0, 1), spawn_tick=t, if_free=True) for t in (1, 2)]
+    beside = world.add_body(rustycs.Circle(0.5), position=(1.2, 1), spawn_tick=4, if_free=True)  # 1.2 m away
+    sensed = world.add_body(rustycs.Circle(0.5), position=(5, 2.2), spawn_tick=4, if_free=True)  # in a sensor
+    grouped = world.add_body(rustycs.Circle(0.5), position=(3.5, 1), spawn_tick=4, if_free=True,
+                             collision_group=-2)  # never collides with the blocker
+    low = world.add_body(rustycs.Circle(0.5), position=(-3, 0.45), spawn_tick=4, if_free=True)  # in the floor
+    loose = world.add_body(rustycs.Circle(0.5), position=(0, 1), spawn_tick=5)  # placement free: appears
+    first, second = (world.add_body(rustycs.Circle(0.5), position=(-6, 1), if_free=True) for _ in range(2))
+    world.step(6)  # the bodies there from the start are placed in row order when the first step begins
+    events = world.events()
+    spawned = [int(a) for k, a in zip(events["kind"], events["a"], strict=True) if k == "spawn"]
+    assert spawned == [tap[0], beside, sensed, grouped, loose]  # in tick order, then row order
+    assert [int(i) for i in np.flatnonzero(world.skipped)] == [tap[1], low, second]
+    assert world.active[first] and not world.active[second]
+    assert world.spawn_ticks[tap[1]] == -1 and world.spawn_ticks[low] == -1 and world.spawn_ticks[tap[0]] == 1
+    assert not world.active[tap[1]] and world.active[blocker]
+    world.add_force((0.0, 0.0))  # the kernels' inputs are rebuilt: what was skipped stays so
+    world.step(1)
+    assert [int(i) for i in np.flatnonzero(world.skipped)] == [tap[1], low, second]

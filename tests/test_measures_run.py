@@ -232,3 +232,117 @@ def test_run_duration_option_sets_the_ticks(cli, tmp_path: Path) -> None:  # noq
     assert run(cli, scene, tmp_path / "d.h5", "--duration", "0.1")["ticks"] == 24  # 0.1 s at 240 Hz
     both = cli("run", scene, "--out", tmp_path / "e.h5", "--duration", "0.1", "--ticks", "5")
     assert both.exit_code == 2 and "give --ticks or --duration, not both" in both.stderr
+
+
+TAP_IN_PLACE = """\
+name: tap-in-place
+world: {tick_rate: 60, duration: 2.0}
+forces:
+  - {name: gravity, acceleration: [0, -1]}
+bodies:
+  - {name: floor, type: static, shape: {type: aabb, width: 10, height: 1}, position: [0, -6]}
+emitters:
+  - {name: tap, shape: {type: circle, radius: 0.5}, position: [0, 2], rate: 10, count: 20,
+     placement: no_overlap}
+"""
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_a_no_overlap_emitter_skips_the_bodies_whose_place_is_taken(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    scene = write(tmp_path, TAP_IN_PLACE)
+    summary = run(cli, scene, tmp_path / "a.h5")
+    with h5py.File(tmp_path / "a.h5", "r") as file:
+        spawn = file["particles/bodies/spawn_tick"][()]
+        active = file["particles/bodies/active/value"][()]
+        position = file["particles/bodies/position/value"][()]
+        kinds = list(file["events/kind"].asstr()[()])
+        attrs = dict(file["parameters/summary"].attrs)
+    appeared = active[:, 1:].any(axis=0)
+    # one every 6 ticks, each where the last one was: only once that one has fallen 2 r = 1 m (g = 1:
+    # after 1.41 s) is the place free again
+    assert 1 < appeared.sum() < 20
+    shown = int(appeared.sum())
+    assert summary["emitters"] == {"tap": {"appeared": shown, "skipped": 20 - shown}}
+    assert summary["escaped_bodies"] == 0  # skipped is not escaped
+    assert attrs["emitter.tap.skipped"] == 20 - shown and attrs["emitter.tap.appeared"] == shown
+    assert kinds.count("spawn") == appeared.sum() - 1  # the first is there from the start
+    assert np.array_equal(spawn[1:] == -1, ~appeared)  # the skipped ones never appeared
+    assert list(spawn[1:][appeared][:2]) == [0, 90]  # the drop from tick 0 is 1 m below by tick 85
+    for frame in range(len(active)):  # no two present bodies overlap at any frame
+        xy = position[frame, 1:][active[frame, 1:]]
+        gaps = np.hypot(*(xy[:, None, :] - xy[None, :, :]).transpose(2, 0, 1))
+        assert (gaps[np.triu_indices(len(xy), 1)] >= 1.0).all()
+    table = cli("run", scene, "--out", tmp_path / "b.h5")  # the table printed by `rustycs run`, and again
+    assert table.exit_code == 0 and "emitter.tap.skipped" in table.stdout
+    with h5py.File(tmp_path / "b.h5", "r") as file:
+        assert np.array_equal(file["particles/bodies/position/value"][()], position)
+        assert np.array_equal(file["particles/bodies/spawn_tick"][()], spawn)
+
+    free_scene = write(tmp_path, TAP_IN_PLACE.replace("no_overlap", "free"), "free.yaml")
+    free = run(cli, free_scene, tmp_path / "f.h5")
+    assert free["emitters"] == {"tap": {"appeared": 20, "skipped": 0}}
+    with h5py.File(tmp_path / "f.h5", "r") as file:
+        assert list(file["particles/bodies/spawn_tick"][1:]) == list(range(0, 120, 6))
+        assert file["particles/bodies/active/value"][-1, 1:].all()
+
+
+SNAP = """\
+name: snap
+world: {tick_rate: 240, duration: 1.0}
+forces:
+  - {name: gravity, acceleration: [0, -9.81]}
+bodies:
+  - {name: hook, type: static, shape: {type: circle, radius: 0.05}, position: [-2, 2]}
+  - {name: bob, shape: {type: circle, radius: 0.1}, position: [-2, 1.5]}
+  - {name: pivot, type: static, shape: {type: circle, radius: 0.05}, position: [0, 2]}
+  - {name: weight, shape: {type: circle, radius: 0.1}, position: [1, 2]}
+  - {name: loose, shape: {type: circle, radius: 0.1}, position: [3, 1]}
+joints:
+  - {name: thread, type: revolute, bodies: [hook, bob], anchor: [-2, 2], break_force: 0.001}
+  - {name: arm, type: revolute, bodies: [pivot, weight], anchor: [0, 2], break_force: 0.06}
+measures:
+  - {name: snapped, first: {event: joint_break, bodies: [pivot, weight]}}
+  - {name: weight_free, first: {event: joint_break, bodies: [weight]}}
+  - {name: any_break, first: {event: joint_break}}
+"""
+
+
+@pytest.mark.usefixtures("compiled_engine")
+def test_a_joint_break_of_the_named_bodies_is_measured_and_stops_the_run(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    # the thread breaks in tick 1 under the bob's weight (0.03 N); the arm, a pendulum let go level,
+    # once its tension (3 m g cos of the swing from the vertical) passes 0.06 N, about two bob weights
+    summary = run(cli, write(tmp_path, SNAP), tmp_path / "snap.h5")
+    with h5py.File(tmp_path / "snap.h5", "r") as file:
+        joints = list(file["joints/name"].asstr()[()])
+        rows, ticks = file["events/body_a"][()], file["events/tick"][()]  # body_a: the joint's row
+        breaks = {joints[row]: int(tick) for row, tick in zip(rows, ticks, strict=True)}
+        assert set(file["events/kind"].asstr()[()]) == {"joint_break"}
+    assert breaks["thread"] == 1 and breaks["arm"] > 20
+    measures = summary["measures"]
+    assert measures["snapped"] == pytest.approx(breaks["arm"] / 240)  # not the thread's, which came first
+    assert measures["weight_free"] == measures["snapped"]
+    assert measures["any_break"] == pytest.approx(1 / 240)
+
+    stopping = SNAP.replace("world: {tick_rate: 240, duration: 1.0}",
+                            "world:\n  tick_rate: 240\n  duration: 1.0\n"
+                            "  stop_when:\n    - {event: joint_break, bodies: [weight, pivot]}")
+    stopped = run(cli, write(tmp_path, stopping, "stop.yaml"), tmp_path / "stop.h5", "--every", "50")
+    assert stopped["status"] == "stopped" and stopped["ticks"] == breaks["arm"]
+    assert stopped["stop_reason"] == '{"event": "joint_break", "bodies": ["weight", "pivot"]}'
+    with h5py.File(tmp_path / "stop.h5", "r") as file:
+        assert file["particles/bodies/position/step"][-1] == breaks["arm"]
+
+
+def test_a_joint_break_of_bodies_no_joint_joins_at_its_file_line_column(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    text = SNAP.replace("world: {tick_rate: 240, duration: 1.0}", "world:\n  duration: 1.0\n  stop_when:\n"
+                        "    - {event: joint_break, bodies: [bob, pivot]}")
+    text = text.replace("[pivot, weight]}}", "[hook, weight]}}").replace("[weight]}}", "[loose]}}")
+    scene = write(tmp_path, text + "  - {name: touch, first: {event: contact_begin, bodies: [bob, loose]}}\n")
+    result = cli("validate", scene)
+    assert result.exit_code == 2
+    why = "(a joint_break's bodies name the joints that join them)"
+    assert result.stderr.strip().splitlines() == [
+        f"{scene}:5:36: world.stop_when.0.bodies: no joint joins 'bob' and 'pivot' {why}",
+        f"{scene}:18:57: measures.snapped.first.bodies: no joint joins 'hook' and 'weight' {why}",
+        f"{scene}:19:61: measures.weight_free.first.bodies: no joint joins 'loose' {why}",
+    ]

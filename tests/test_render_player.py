@@ -7,9 +7,10 @@ import math
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
-from rustycs_cli.render.colors import BACKGROUND, MATERIAL_COLORS
+from rustycs_cli.render.colors import BACKGROUND, EVENT_COLORS, MATERIAL_COLORS
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_ARGS = [
@@ -194,4 +195,71 @@ def test_player_draws_every_shape_kind_and_picks_bodies_by_their_shapes(cli, bro
     page.mouse.move(*page.evaluate("window.player.worldToScreen(-2.0, 1.6)"))
     page.wait_for_function("window.player.state.hover === 2", timeout=5_000)
     assert page.inner_text("#tooltip").startswith("hook  (dynamic polygon, metal)")
+    assert problems == []
+
+
+def embedded(page_text: str) -> tuple[dict, dict[str, bytes]]:
+    """The player's JSON header and its base64 arrays (as bytes)."""
+    import base64
+
+    header = json.loads(
+        re.search(r'<script type="application/json" id="rustycs-header">(.*?)</script>', page_text)[1])
+    blobs = {m[1]: base64.b64decode(m[2]) for m in re.finditer(
+        r'<script type="application/octet-stream" id="rustycs-(\w+)">(.*?)</script>', page_text)}
+    return header, blobs
+
+
+def test_player_data_lights_sensors_while_occupied_and_marks_events(cli, sensor_drop, tmp_path: Path):
+    path, enter, leave = sensor_drop
+    out = tmp_path / "sensor.html"
+    assert cli("render", path, "-o", out).exit_code == 0
+    header, blobs = embedded(out.read_text())
+    assert header["sensorBodies"] == [1] and header["steps"] == list(range(61))  # frame f is tick f
+    lit = np.frombuffer(blobs["sensorLit"], np.uint8).reshape(61, 1)[:, 0]
+    assert list(np.flatnonzero(lit)) == list(range(enter, leave))  # from its enter tick until it left
+    assert [(m["kind"], m["frames"], m["counts"]) for m in header["eventMarks"]] == [
+        ("sensor_enter", [enter], [1]), ("sensor_exit", [leave], [1])]
+    thin = tmp_path / "thin.html"  # every 4th frame: an event marks the first shown frame at or after it
+    assert cli("render", path, "-o", thin, "--every", "4").exit_code == 0
+    marks = {m["kind"]: m["frames"] for m in embedded(thin.read_text())[0]["eventMarks"]}
+    assert marks == {"sensor_enter": [-(-enter // 4)], "sensor_exit": [-(-leave // 4)]}
+
+
+def test_player_lights_a_sensor_while_a_body_is_inside_and_marks_the_scrub_bar(cli, browser, sensor_drop,
+                                                                            tmp_path: Path):
+    path, enter, leave = sensor_drop
+    out = tmp_path / "sensor.html"
+    assert cli("render", path, "-o", out).exit_code == 0
+    page, problems, _ = open_player(browser, out)
+
+    def sensor_at(frame: int) -> tuple[int, int, int]:  # a point of the sensor box the ball never crosses
+        page.evaluate(f"window.player.setFrame({frame}); window.player.draw()")
+        return canvas_rgb(page, 0.4, 0.85)
+
+    empty, inside, after = sensor_at(0), sensor_at(enter + 2), sensor_at(60)
+    assert empty == after and empty != inside and empty != BACKGROUND
+    assert inside[1] > inside[0] + 60 and sum(inside) < sum(empty)  # a deeper plastic green
+    assert page.evaluate(f"window.player.sensorLit(1, {enter})") is True
+    assert page.evaluate(f"window.player.sensorLit(1, {enter - 1})") is False
+
+    def mark_rgb(frame: int) -> tuple[int, int, int]:  # the marks canvas above the track, at a frame's place
+        return tuple(page.evaluate(
+            """(frame) => {
+                const canvas = document.getElementById("marks"), rect = canvas.getBoundingClientRect();
+                const [x] = window.player.scrubPoint(frame), dpr = window.devicePixelRatio || 1;
+                const column = Math.floor((x - rect.left) * dpr);
+                const pixel = canvas.getContext("2d").getImageData(column, 2 * dpr, 1, 1);
+                return Array.from(pixel.data.slice(0, 4));
+            }""", frame))
+
+    enter_color = EVENT_COLORS["sensor_enter"]
+    assert mark_rgb(enter) == (*enter_color, 255) and mark_rgb(leave) == (*EVENT_COLORS["sensor_exit"], 255)
+    assert mark_rgb((enter + leave) // 2)[3] == 0  # no event there: transparent
+    assert "sensor_enter" in page.inner_text("#legend") and "sensor_exit" in page.inner_text("#legend")
+    for frame in (enter, leave, 50):  # a click on the bar, on a mark or not, still scrubs to that frame
+        page.mouse.click(*page.evaluate(f"window.player.scrubPoint({frame})"))
+        assert page.evaluate("window.player.state.frame") == frame
+    x, y = page.evaluate(f"window.player.scrubPoint({enter})")
+    page.mouse.move(x, y)
+    assert page.get_attribute("#scrub", "title") == f"tick {enter}: 1 sensor_enter"
     assert problems == []

@@ -14,7 +14,7 @@ from conftest import EVERY_SHAPE
 from PIL import Image
 
 from rustycs_cli.render.colors import BACKGROUND, MATERIAL_COLORS, VELOCITY
-from rustycs_cli.render.raster import SENSOR_FILL_ALPHA
+from rustycs_cli.render.raster import SENSOR_FILL_ALPHA, SENSOR_LIT_ALPHA
 
 SCENES = Path(__file__).resolve().parent.parent / "scenes"
 VIEW = ("-4,-1,4,5", "800x600")  # exactly 100 px per metre: pixel = (100 (x + 4), 100 (5 - y))
@@ -38,10 +38,9 @@ def at(image: Image.Image, x: float, y: float, box=(-4.0, -1.0, 4.0, 5.0), scale
     return image.getpixel((math.floor((x - box[0]) * scale), math.floor((box[3] - y) * scale)))
 
 
-def faint(color: tuple[int, int, int]) -> tuple[int, ...]:
-    """A sensor's fill over the white background."""
-    alpha = SENSOR_FILL_ALPHA / 255
-    return tuple(round(255 * (1 - alpha) + c * alpha) for c in color)
+def faint(color: tuple[int, int, int], alpha: int = SENSOR_FILL_ALPHA) -> tuple[int, ...]:
+    """A sensor's fill over the white background (brighter with SENSOR_LIT_ALPHA: something inside)."""
+    return tuple(round(255 * (1 - alpha / 255) + c * alpha / 255) for c in color)
 
 
 def near(a, b, tolerance: int = 2) -> bool:
@@ -103,6 +102,46 @@ def test_velocity_arrows_start_at_the_centre_of_mass(cli, trajectory: Path, tmp_
 
     assert violet(start[0], start[1] + 0.25) and violet(start[0], start[1] + 0.45)
     assert not violet(-2.5 + 0.125, start[1] + 0.25)  # none up from the origin or the arm's middle
+
+
+def test_pictures_and_videos_light_a_sensor_while_a_body_is_inside(cli, sensor_drop, tmp_path: Path):
+    path, enter, leave = sensor_drop  # frame f is tick f; the goal box is x -0.5..0.5, y 0.75..1.25
+    view = ("--view", "-2,-0.5,2,2.5", "--size", "400x300")  # 100 px per metre
+
+    def sensor(image: Image.Image) -> tuple[int, int, int]:  # a point of the box the ball never crosses
+        return image.convert("RGB").getpixel((240, 165))  # x 0.4, y 0.85
+
+    def png(tick: int) -> tuple[int, int, int]:
+        out = tmp_path / f"tick{tick}.png"
+        assert cli("render", path, "-o", out, "--tick", str(tick), *view).exit_code == 0
+        return sensor(Image.open(out))
+
+    empty, inside, after = png(0), png(enter + 2), png(60)
+    assert near(empty, faint(PLASTIC)) and near(after, faint(PLASTIC))
+    assert near(inside, faint(PLASTIC, SENSOR_LIT_ALPHA))
+    assert near(png(enter), faint(PLASTIC, SENSOR_LIT_ALPHA)) and near(png(enter - 1), faint(PLASTIC))
+    assert near(png(leave - 1), faint(PLASTIC, SENSOR_LIT_ALPHA)) and near(png(leave), faint(PLASTIC))
+
+    gif = tmp_path / "drop.gif"
+    assert cli("render", path, "-o", gif, "--every", "1", *view).exit_code == 0
+    with Image.open(gif) as frames:
+        shown = []
+        for f in range(frames.n_frames):
+            frames.seek(f)
+            shown.append(sensor(frames))
+    lit = [f for f, color in enumerate(shown) if near(color, faint(PLASTIC, SENSOR_LIT_ALPHA), 4)]
+    assert lit == list(range(enter, leave))
+    assert all(near(shown[f], faint(PLASTIC), 4) for f in range(61) if f not in lit)
+
+    import imageio_ffmpeg
+
+    mp4 = tmp_path / "drop.mp4"
+    assert cli("render", path, "-o", mp4, "--every", "1", *view).exit_code == 0
+    reader = imageio_ffmpeg.read_frames(str(mp4))
+    width, height = next(reader)["size"]
+    decoded = [np.frombuffer(raw, np.uint8).reshape(height, width, 3)[165, 240] for raw in reader]
+    red = np.array([int(pixel[0]) for pixel in decoded])  # faint plastic: red 191; lit: 102 (lossy video)
+    assert list(np.flatnonzero(red < 150)) == list(range(enter, leave))
 
 
 def test_a_file_without_shapes_is_refused_with_one_message(cli, trajectory: Path, tmp_path: Path):

@@ -32,7 +32,8 @@ def test_five_bodies_json_summary_everywhere(cli, five_body_scene: Path, tmp_pat
     assert json.loads((tmp_path / "runs.summary.json").read_text()) == summary
     stored = attrs(out, "parameters/summary")
     assert summary["measures"] == {}  # the scene has none; each would be an attribute measure.<name>
-    assert stored == {k: v for k, v in summary.items() if v is not None and k != "measures"}
+    assert summary["emitters"] == {}  # nor emitters: attributes emitter.<name>.appeared and .skipped
+    assert stored == {k: v for k, v in summary.items() if v is not None and k not in ("measures", "emitters")}
     parameters = attrs(out, "parameters")
     assert parameters["status"] == "complete" and parameters["ticks_completed"] == 45
     assert parameters["dt"] == pytest.approx(1 / 60) and parameters["precision"] == 8

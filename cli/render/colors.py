@@ -42,3 +42,14 @@ def material_color(material: str) -> RGB:
 def hex_color(color: RGB) -> str:
     """`#rrggbb`, for the HTML player."""
     return "#{:02x}{:02x}{:02x}".format(*color)
+EVENT_COLORS: dict[str, RGB] = {  # the player's marks on its scrub bar, by event kind
+    "contact_begin": (0, 121, 241),
+    "contact_end": (135, 180, 230),
+    "sensor_enter": (0, 170, 70),
+    "sensor_exit": (140, 200, 150),
+    "spawn": (230, 160, 0),
+    "remove": (200, 0, 200),
+    "escape": (230, 41, 55),
+    "joint_break": (0, 150, 136),
+}
+OTHER_EVENT: RGB = (30, 30, 30)  # a kind without a colour of its own

@@ -92,10 +92,13 @@ def render(request: RenderRequest) -> RenderResult:
 
 
 def _write_png(file: h5py.File, run: RunInfo, index: int, view: View, request: RenderRequest) -> None:
+    from .events import lit_sensors
     from .frames import read_frame
     from .raster import draw_frame
 
-    image = draw_frame(run, read_frame(file, index, _with_contacts(run, request)), view, request.overlays)
+    frame = read_frame(file, index, _with_contacts(run, request))
+    lit = lit_sensors(file, run, run.steps[index : index + 1])[0]
+    image = draw_frame(run, frame, view, request.overlays, lit)
     with atomic_output(request.out) as temporary:
         image.save(temporary, format="PNG")
 
@@ -148,12 +151,14 @@ def _images(
     from rich.console import Console
     from rich.progress import Progress
 
+    from .events import lit_sensors
     from .frames import iter_frames
     from .raster import draw_frame
 
+    lit = lit_sensors(file, run, run.steps[frames.start : frames.stop : frames.step])
     console = Console(stderr=True)
     with Progress(console=console, transient=True, disable=not sys.stderr.isatty()) as progress:
         task = progress.add_task(f"rendering {request.out.name}", total=len(frames))
-        for frame in iter_frames(file, frames, _with_contacts(run, request)):
-            yield draw_frame(run, frame, view, request.overlays)
+        for k, frame in enumerate(iter_frames(file, frames, _with_contacts(run, request))):
+            yield draw_frame(run, frame, view, request.overlays, lit[k])
             progress.advance(task)

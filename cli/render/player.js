@@ -1,5 +1,7 @@
 // rustycs player: draws an embedded trajectory on a canvas. No network, no libraries.
 // window.player exposes the state (frame, playing, speed, overlay toggles, camera) for scripts and tests.
+// Sensors light up while something is inside (sensorLit, from the run's sensor events); the scrub bar
+// carries a mark per frame where events happened, coloured by kind (eventMarks, with a legend).
 "use strict";
 (() => {
   const header = JSON.parse(document.getElementById("rustycs-header").textContent);
@@ -22,6 +24,7 @@
   const contactPoint = decode("contactPoint", Float32Array);
   const contactNormal = decode("contactNormal", Float32Array);
   const jointActive = decode("jointActive", Uint8Array);
+  const sensorLit = decode("sensorLit", Uint8Array); // [F, K]: 1 while something is inside sensor body k
 
   const bodies = header.bodies;
   const N = bodies.names.length;
@@ -29,6 +32,10 @@
   const J = joints.types.length;
   const F = header.steps.length;
   const times = header.times;
+  const K = header.sensorBodies.length;
+  const sensorColumn = new Int32Array(N).fill(-1); // a body's column in sensorLit, -1: no sensor shape
+  header.sensorBodies.forEach((body, k) => { sensorColumn[body] = k; });
+  const lit = (f, i) => sensorColumn[i] >= 0 && sensorLit[f * K + sensorColumn[i]] === 1;
   const COLORS = { grid: "#e4e4e4", axes: "#b4b4b4", text: "#1e1e1e", hitbox: "#0079f1", contact: "#0079f1",
     velocity: "#c800c8", attractor: "#e6a000", bounds: "#e67878", spoke: "#ffffff", hover: "#ff8c00" };
 
@@ -300,7 +307,7 @@
 
   function drawBodies(f, shown) {
     const fills = new Map(), outlines = new Map(), lines = new Map(), sensorFills = new Map();
-    const sensorLines = new Map(), spokes = new Path2D(), kinematic = new Path2D();
+    const litFills = new Map(), sensorLines = new Map(), spokes = new Path2D(), kinematic = new Path2D();
     const pathFor = (map, color) => map.get(color) || map.set(color, new Path2D()).get(color);
     for (const i of shown) {
       for (let s = firstShape[i]; s < firstShape[i + 1]; s++) {
@@ -308,7 +315,7 @@
         if (shapes.sensor[s]) {
           if (style === "line") addLine(pathFor(sensorLines, color), f, s);
           else {
-            addShape(pathFor(sensorFills, color), f, s);
+            addShape(pathFor(lit(f, i) ? litFills : sensorFills, color), f, s);
             addShape(pathFor(sensorLines, color), f, s);
           }
         } else if (style === "line") {
@@ -333,9 +340,11 @@
     ctx.stroke(kinematic);
     ctx.strokeStyle = COLORS.spoke;
     ctx.stroke(spokes);
-    // sensors: a faint fill and a dashed outline over everything
+    // sensors: a faint fill and a dashed outline over everything, the fill bright while something is inside
     ctx.globalAlpha = 0.25;
     for (const [color, path] of sensorFills) { ctx.fillStyle = color; ctx.fill(path); }
+    ctx.globalAlpha = 0.6;
+    for (const [color, path] of litFills) { ctx.fillStyle = color; ctx.fill(path); }
     ctx.globalAlpha = 0.7;
     ctx.setLineDash([5, 4]);
     ctx.lineWidth = 1.5;
@@ -489,6 +498,51 @@
     stats.maxDrawMs = Math.max(stats.maxDrawMs, stats.lastDrawMs);
   }
 
+  // ---- the scrub bar's event marks: a short coloured tick above the track per frame with events ----
+  const marksCanvas = document.getElementById("marks");
+  const THUMB = 12; // pixels: the range's thumb (player.html), whose centre spans the bar less its width
+  const markNotes = new Map(); // frame -> "2 spawn, 1 sensor_enter"
+  for (const mark of header.eventMarks) {
+    mark.frames.forEach((frame, k) => {
+      const note = `${mark.counts[k]} ${mark.kind}`;
+      markNotes.set(frame, markNotes.has(frame) ? `${markNotes.get(frame)}, ${note}` : note);
+    });
+  }
+
+  function markX(f) { // where frame f sits on the bar, CSS pixels from its left edge
+    const barWidth = scrub.getBoundingClientRect().width;
+    return THUMB / 2 + (F > 1 ? f / (F - 1) : 0) * (barWidth - THUMB);
+  }
+
+  function drawMarks() {
+    const rect = marksCanvas.getBoundingClientRect();
+    marksCanvas.width = Math.round(Math.max(rect.width, 1) * dpr);
+    marksCanvas.height = Math.round(Math.max(rect.height, 1) * dpr);
+    const marks = marksCanvas.getContext("2d");
+    marks.setTransform(dpr, 0, 0, dpr, 0, 0);
+    marks.clearRect(0, 0, rect.width, rect.height);
+    for (const mark of header.eventMarks) {
+      marks.fillStyle = mark.color;
+      for (const frame of mark.frames) marks.fillRect(Math.round(markX(frame)) - 1, 0, 2, rect.height / 2 - 3);
+    }
+  }
+
+  function markNear(offsetX) { // the text of the marks within 4 pixels of a point on the bar, or ""
+    let best = "", distance = 4.5;
+    for (const [frame, note] of markNotes) {
+      const d = Math.abs(markX(frame) - offsetX);
+      if (d < distance) { distance = d; best = `tick ${header.steps[frame]}: ${note}`; }
+    }
+    return best;
+  }
+
+  const legend = document.getElementById("legend");
+  for (const mark of header.eventMarks) {
+    const swatch = document.createElement("i");
+    swatch.style.background = mark.color;
+    legend.append(swatch, mark.kind);
+  }
+
   // ---- hit test: the topmost active body under a screen point ----
   function segmentDistance(x, y, ax, ay, bx, by) {
     const dx = bx - ax, dy = by - ay, length2 = dx * dx + dy * dy;
@@ -601,6 +655,7 @@
   document.getElementById("forward").addEventListener("click", () => step(1));
   document.getElementById("fit").addEventListener("click", fit);
   scrub.addEventListener("input", () => setFrame(Number(scrub.value)));
+  scrub.addEventListener("mousemove", (event) => { scrub.title = markNear(event.offsetX) || "scrub"; });
   speedSelect.addEventListener("change", () => setSpeed(speedSelect.selectedIndex));
   for (const name of OVERLAYS) {
     document.getElementById(name).addEventListener("change", (event) => {
@@ -637,6 +692,7 @@
     const x = state.cx, y = state.cy, scale = state.scale;
     resize();
     Object.assign(state, { cx: x, cy: y, scale });
+    drawMarks();
   });
 
   window.player = {
@@ -652,12 +708,18 @@
     fit,
     draw,
     bodyAt,
+    sensorLit: (i, f = state.frame) => lit(f, i), // whether sensor body i holds something at frame f
+    scrubPoint: (f) => { // page pixels of frame f's place on the scrub bar (its mark), mid-height
+      const rect = scrub.getBoundingClientRect();
+      return [rect.left + markX(f), rect.top + rect.height / 2];
+    },
     worldToScreen: (x, y) => [sx(x), sy(y)], // CSS pixels within the canvas
     ready: false,
   };
   resize();
   fit();
   draw();
+  drawMarks();
   window.player.ready = true;
   requestAnimationFrame(animate);
 })();

@@ -20,6 +20,7 @@ import numpy as np
 from . import colors
 from .bodies import RunInfo
 from .colors import hex_color
+from .events import event_marks, read_events, sensor_bodies, sensor_occupancy
 from .frames import iter_blocks
 from .joints import ZIGZAG_TEETH, ZIGZAG_WIDTH
 from .raster import VELOCITY_SECONDS, Overlays
@@ -50,6 +51,10 @@ def write_player(
     frames = range(start % stride, run.frame_count, stride)
     arrays, contacts = _arrays(file, run, frames)
     arrays["jointActive"] = run.joints.active[frames.start :: frames.step].astype(np.uint8)
+    steps = run.steps[frames.start :: frames.step]
+    events = read_events(file)
+    sensors = sensor_bodies(run.outlines)
+    arrays["sensorLit"] = sensor_occupancy(events, sensors, steps)
     header = {
         "source": run.source,
         "bodies": _bodies(run),
@@ -61,7 +66,7 @@ def write_player(
         ],
         "bounds": None if run.bounds is None else [float(v) for v in run.bounds.reshape(-1)],
         "view": list(view),
-        "steps": run.steps[frames.start :: frames.step].tolist(),
+        "steps": steps.tolist(),
         "times": run.times[frames.start :: frames.step].tolist(),
         "recordedFrames": run.frame_count,
         "every": stride,
@@ -70,6 +75,8 @@ def write_player(
         "note": note,
         "velocitySeconds": VELOCITY_SECONDS,
         "overlays": asdict(overlays),
+        "sensorBodies": sensors,  # the columns of sensorLit: 1 while something is inside
+        "eventMarks": event_marks(events, steps),
     }
     blobs = {name: _base64(array) for name, array in {**arrays, **(contacts or {})}.items()}
     html = _page(header, blobs)

@@ -26,6 +26,7 @@ NORMAL_LENGTH = 14.0  # pixels
 LABEL_SPACING = 64.0  # pixels between grid labels at least
 CORNER_CLEAR = 30.0  # pixels at the top left kept for the tick label
 SENSOR_FILL_ALPHA = 64  # of 255: a sensor shows what lies under it
+SENSOR_LIT_ALPHA = 153  # while something is inside it (the player's 0.6)
 SENSOR_OUTLINE_ALPHA = 160
 Color = tuple[int, ...]  # RGB, or RGBA on the sensors' layer
 
@@ -47,8 +48,10 @@ def font(size: int) -> ImageFont.FreeTypeFont | ImageFont.ImageFont:
     return ImageFont.load_default(size=size)
 
 
-def draw_frame(run: RunInfo, frame: Frame, view: View, overlays: Overlays) -> Image.Image:
-    """Render one frame of `run` as seen through `view` (an RGB image of the view's size)."""
+def draw_frame(run: RunInfo, frame: Frame, view: View, overlays: Overlays,
+               lit: np.ndarray | None = None) -> Image.Image:
+    """Render one frame of `run` as seen through `view` (an RGB image of the view's size); `lit` [N]
+    marks the sensor bodies that hold something at this frame (filled brighter)."""
     big = view.scaled(SUPERSAMPLE)
     image = Image.new("RGB", (big.width, big.height), colors.BACKGROUND)
     draw = ImageDraw.Draw(image)
@@ -62,7 +65,7 @@ def draw_frame(run: RunInfo, frame: Frame, view: View, overlays: Overlays) -> Im
     shape_boxes = geometry.shape_boxes(run, points)
     boxes = geometry.hitboxes(run, shape_boxes)
     visible = _visible(frame, boxes, big)
-    image = _bodies(image, run, frame, big, visible, points)
+    image = _bodies(image, run, frame, big, visible, points, lit)
     draw = ImageDraw.Draw(image)
     if overlays.joints:
         _joints(draw, run, frame, big)
@@ -163,12 +166,13 @@ class Paint:
     line: Color
 
 
-def paint(color: colors.RGB, body_type: str, sensor: bool) -> Paint:
+def paint(color: colors.RGB, body_type: str, sensor: bool, lit: bool = False) -> Paint:
     """Dynamic bodies filled, kinematic ones filled and outlined in black, static ones outlined only;
-    sensors filled faintly with a lighter outline and no spoke (drawn on a layer blended on top)."""
+    sensors filled faintly (brighter while `lit`: something is inside) with a lighter outline and no spoke
+    (drawn on a layer blended on top)."""
     if sensor:
-        faint = (*color, SENSOR_OUTLINE_ALPHA)
-        return Paint((*color, SENSOR_FILL_ALPHA), faint, SUPERSAMPLE, None, faint)
+        faint, fill = (*color, SENSOR_OUTLINE_ALPHA), (*color, SENSOR_LIT_ALPHA if lit else SENSOR_FILL_ALPHA)
+        return Paint(fill, faint, SUPERSAMPLE, None, faint)
     if body_type == "static":
         return Paint(None, color, 2 * SUPERSAMPLE, color, color)
     outline = colors.TEXT if body_type == "kinematic" else None
@@ -176,7 +180,7 @@ def paint(color: colors.RGB, body_type: str, sensor: bool) -> Paint:
 
 
 def _bodies(image: Image.Image, run: RunInfo, frame: Frame, view: View, visible: np.ndarray,
-            points: np.ndarray) -> Image.Image:
+            points: np.ndarray, lit: np.ndarray | None) -> Image.Image:
     """The visible bodies' shapes in their materials' colours, statics first; sensors on a translucent
     layer over everything. Returns the image drawn on (a new one when sensors were blended in)."""
     outlines = run.outlines
@@ -196,7 +200,8 @@ def _bodies(image: Image.Image, run: RunInfo, frame: Frame, view: View, visible:
     layer = Image.new("RGBA", image.size, (0, 0, 0, 0))
     draw = ImageDraw.Draw(layer)
     for s in sensors:
-        style = paint(outlines.colors[s], run.types[outlines.body[s]], True)
+        body = outlines.body[s]
+        style = paint(outlines.colors[s], run.types[body], True, lit is not None and bool(lit[body]))
         _shape(draw, run, s, pixels, tips, view.scale, style)
     return Image.alpha_composite(image.convert("RGBA"), layer).convert("RGB")
 
