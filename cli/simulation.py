@@ -202,13 +202,13 @@ def _divergence_message(err: Any, names: list[str], last_tick: int, out: Path) -
 
 
 def warm_up() -> None:
-    """Step a two-body world once, so compiling or loading the cached kernels is not timed as stepping."""
+    """Load the kernels with a two-body world, so compiling or loading them is not timed as stepping."""
     import rustycs
 
     world = rustycs.World()
     world.add_body(rustycs.Circle(radius=0.5), position=(0.0, 0.4))
     world.add_body(rustycs.Box(1.0, 1.0), position=(0.0, -0.5), body_type="static")
-    world.step(1)
+    world.load_kernels()
 
 
 THREAD_STOP = threading.Event()
