@@ -264,7 +264,8 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
         remember(contacts.points, n_pts, cache)
         done = status[TICKS_DONE] + 1
         recorded = every > 0 and (done % every == 0 or done == n_ticks)
-        if breaking or recorded or done == n_ticks:  # else nobody reads the reactions of this tick
+        reacted = breaking or recorded or done == n_ticks  # else nobody reads this tick's reactions
+        if reacted:
             joint_reactions(bodies, body, joints, joint_work, h)
         if breaking:
             broken = joint_work.broken
@@ -282,9 +283,9 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
                                      first_event, tick, dt)
         status[TICKS_DONE] = done
         stopped = status[STOPPED] >= 0
-        if stopped and not (breaking or recorded or done == n_ticks):
+        if stopped and not reacted:
             joint_reactions(bodies, body, joints, joint_work, h)  # the last tick of the block
-        if every > 0 and (done % every == 0 or done == n_ticks or stopped):
+        if recorded or (every > 0 and stopped):
             record_frame(frames, status[FRAMES], first_tick + done, bodies, joints, forces, contacts.points,
                          n_pts)
             status[FRAMES] += 1
