@@ -1,8 +1,10 @@
 """Keep numba's on-disk kernel cache consistent with the engine's sources.
 
 numba invalidates a cached kernel only when the file defining it changes, not when a kernel it calls
-(in another module) does. So the cache is stamped with a hash of every engine source file, and a
-stale cache is cleared before the kernels are loaded.
+(in another module) does. So the cache is stamped with a hash of the engine's source files that compiled
+code can see (those defining kernels and every module they import: constants are compiled in), and a
+stale cache is cleared before the kernels are loaded. The Python-only layer (the World, body control)
+is left out: a change there compiles nothing again (a full compile takes minutes).
 """
 
 from __future__ import annotations
@@ -10,6 +12,7 @@ from __future__ import annotations
 import glob
 import hashlib
 import os
+import re
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
 _STAMP = "rustycs-sources.sha256"
@@ -23,11 +26,37 @@ def _cache_dirs() -> list[str]:
     return dirs
 
 
+_IMPORT = re.compile(
+    r"^(?:from rustycs\.(\w+) import|import rustycs\.(\w+)|from rustycs import \(?([\w ,\n]+))", re.MULTILINE)
+_KERNEL = re.compile(r"@(?:njit|tick_kernel)\b|\bnjit\(")
+
+
+def _compiled_sources() -> dict[str, bytes]:
+    """The engine's modules that compiled code depends on: those defining kernels, and what they import."""
+    sources = {}
+    for path in glob.glob(os.path.join(_HERE, "*.py")):
+        with open(path, "rb") as f:
+            sources[os.path.splitext(os.path.basename(path))[0]] = f.read()
+    imports = {}
+    for name, text in sources.items():
+        found = set()
+        for match in _IMPORT.finditer(text.decode()):
+            found.update(match.group(1, 2))
+            found.update(n.strip() for n in (match.group(3) or "").split(","))
+        imports[name] = found & sources.keys()
+    needed = {name for name, text in sources.items() if _KERNEL.search(text.decode())}
+    todo = list(needed)
+    while todo:
+        for name in imports[todo.pop()] - needed:
+            needed.add(name)
+            todo.append(name)
+    return {name: sources[name] for name in needed}
+
+
 def sources_hash() -> str:
     digest = hashlib.sha256()
-    for path in sorted(glob.glob(os.path.join(_HERE, "*.py"))):
-        with open(path, "rb") as f:
-            digest.update(os.path.basename(path).encode() + b"\0" + f.read())
+    for name, text in sorted(_compiled_sources().items()):
+        digest.update(name.encode() + b"\0" + text)
     return digest.hexdigest()
 
 
@@ -79,3 +108,13 @@ def compile_needed() -> bool:
     ensure_fresh()
     return not any(glob.glob(os.path.join(d, "**", "step.run_ticks-*.nbi"), recursive=True)
                    for d in _cache_dirs())
+
+
+def compiled_entry(kernel, args: tuple):
+    """The compiled entry of the numba `kernel` for the types of `args` (loaded from the cache or compiled
+    if new), to call with arguments of exactly those types.
+
+    A kernel called through its dispatcher types every argument on every call: for the step's, whose
+    records hold about 200 arrays, that took 29 of the 33 us of a five-body world's `World.step(1)`;
+    its entry takes the arrays as they come (2.8 us)."""
+    return kernel.compile(tuple(kernel.typeof_pyval(arg) for arg in args))

@@ -50,6 +50,22 @@ def frame_buffer(capacity: int, bodies: int, joints: int) -> dict[str, np.ndarra
             for name, (shape, dtype) in FRAME_FIELDS.items()}
 
 
+def check_frame_buffer(record: dict[str, np.ndarray], bodies: int, joints: int) -> None:
+    """Raise ValueError unless `record` is a frame buffer (`frame_buffer`) of a world of `bodies` bodies and
+    `joints` joints: the step writes into its arrays unchecked."""
+    sizes = {"n": bodies, "j": joints}
+    if list(record) != list(FRAME_FIELDS):
+        raise ValueError(f"a frame buffer has the arrays {', '.join(FRAME_FIELDS)}, in that order")
+    capacity = len(record["tick"])
+    for name, (shape, dtype) in FRAME_FIELDS.items():
+        array = record[name]
+        expected = (capacity, *(sizes.get(d, d) for d in shape))
+        if not (isinstance(array, np.ndarray) and array.dtype == dtype and array.shape == expected
+                and array.flags.c_contiguous and array.flags.writeable):
+            raise ValueError(f"frame buffer array {name!r} must be a writeable C-contiguous "
+                             f"{np.dtype(dtype)} array of shape {expected}: make it with World.frame_buffer")
+
+
 @tick_kernel
 def record_frame(frames, k, tick, bodies, joints, forces, points, n_points):
     """Write the current state into row k of `frames` (the buffer's arrays as a tuple, in FRAME_FIELDS

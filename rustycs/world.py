@@ -15,12 +15,25 @@ from rustycs.body_types import BODY_TYPE_NAMES, DYNAMIC
 from rustycs.events import EVENT_KIND_NAMES
 from rustycs.forces import Forces
 from rustycs.joints import JOINT_COLUMNS, JOINT_TYPE_NAMES, Joints, joint_filter
-from rustycs.kernel_cache import ensure_fresh
+from rustycs.kernel_cache import compiled_entry, ensure_fresh
 from rustycs.materials import MATERIALS, Material
 from rustycs.pieces import MAX_VERTICES, body_mass, edge_normals, shape_pieces
 from rustycs.queries import WorldQueries
+from rustycs.recording import check_frame_buffer, frame_buffer
 from rustycs.shapes import Box, Capsule, Chain, Circle, Polygon, Segment, Shape, type_name
 from rustycs.state import BODY_COLUMNS, SHAPE_COLUMNS, Bodies, Shapes, Table
+from rustycs.step import (
+    BAD_BODY,
+    ESCAPED,
+    FRAMES,
+    STOPPED,
+    TICKS_DONE,
+    Settings,
+    grow,
+    new_status,
+    new_workspace,
+    run_ticks,
+)
 from rustycs.world_scenario import WorldScenario
 
 _BODY_TYPES = {name: code for code, name in enumerate(BODY_TYPE_NAMES)}
@@ -100,7 +113,10 @@ class World(BodyControl, WorldQueries, WorldScenario):
         # the step's buffers, kept from block to block (rebuilt when bodies are added)
         self._workspace = None
         self._contact_rows = None  # the last tick's contact points, built from the workspace when asked
-        self._no_frames: dict[str, np.ndarray] | None = None  # the step's buffer when nothing is recorded
+        self._no_frames = tuple(frame_buffer(0, 0, 0).values())  # the step's frames when none are recorded
+        self._checked_record: tuple = (None, ())  # the last frame buffer checked, and its arrays
+        self._entry = None  # (the kernel inputs, the step's compiled entry for their types)
+        self._settings_for = None  # (the kernel inputs, the settings' values, the Settings record)
         self._init_scenario()
 
     @property
@@ -448,12 +464,15 @@ class World(BodyControl, WorldQueries, WorldScenario):
                                         self._scenario(bodies, shapes))
         return self._inputs
 
-    def _settings(self):
-        from rustycs.step import Settings
-
-        bounds = np.zeros(4) if self.bounds is None else np.array([*self.bounds[0], *self.bounds[1]])
-        return Settings(self.dt, self.precision, self.restitution_threshold, bounds, self.bounds is not None,
-                        self._records_contacts())
+    def _settings(self, inputs: KernelInputs) -> Settings:
+        """How the world steps, made again only when a setting or the world's make-up changed."""
+        key = (self.dt, self.precision, self.restitution_threshold, self.bounds, self.contact_events)
+        if self._settings_for is None or self._settings_for[0] is not inputs or self._settings_for[1] != key:
+            bounds = np.zeros(4) if self.bounds is None else np.array([*self.bounds[0], *self.bounds[1]])
+            settings = Settings(self.dt, self.precision, self.restitution_threshold, bounds,
+                                self.bounds is not None, self._records_contacts())
+            self._settings_for = inputs, key, settings
+        return self._settings_for[2]
 
     def step(self, n: int = 1, record: dict[str, np.ndarray] | None = None, every: int = 1) -> int:
         """Advance n ticks in compiled code. Raises SimulationDiverged on a non-finite state.
@@ -463,37 +482,28 @@ class World(BodyControl, WorldQueries, WorldScenario):
         written. The buffer must hold them all: ceil(n / every) rows. A stop condition that holds ends
         the call early, after the tick where it held (its frame recorded): `stop_condition` names it.
         """
-        from rustycs.step import (
-            BAD_BODY,
-            ESCAPED,
-            FRAMES,
-            STOPPED,
-            TICKS_DONE,
-            grow,
-            new_status,
-            new_workspace,
-            run_ticks,
-        )
-
         if n <= 0:
             return 0
         inputs = self._kernel_inputs()
         if record is None:
             every = 0
-            record = self._no_frames = self._no_frames or self.frame_buffer(0)
-        elif len(record["tick"]) < -(-n // every):
-            raise ValueError(f"a frame buffer of {len(record['tick'])} rows cannot hold {-(-n // every)} "
-                             "frames")
+            frames = self._no_frames
+        else:
+            frames = self._frames(record, -(-n // every))
         if self._workspace is None:
             last = self._last_contacts()
             self._workspace = new_workspace(self.body_count, self._shapes.rows, self._joints.rows,
                                             MAX_VERTICES, last.key, last.normal_impulse, last.tangent_impulse)
         self._fold_initial(inputs)
-        status, frames, settings = new_status(), tuple(record.values()), self._settings()
+        status, settings = new_status(), self._settings(inputs)
         self._workspace.events.count[0] = 0  # the last call's events were taken
+        if self._entry is None or self._entry[0] is not inputs:
+            self._entry = inputs, compiled_entry(run_ticks, (
+                n, *inputs[:5], settings, self._workspace, inputs.scenario, self.tick, every, frames, status))
+        run = self._entry[1]
         while True:
-            run_ticks(n, inputs.bodies, inputs.shapes, inputs.joints, inputs.joint_filter, inputs.forces,
-                      settings, self._workspace, inputs.scenario, self.tick, every, frames, status)
+            run(n, inputs.bodies, inputs.shapes, inputs.joints, inputs.joint_filter, inputs.forces, settings,
+                self._workspace, inputs.scenario, self.tick, every, frames, status)
             if status[BAD_BODY] >= 0 or status[STOPPED] >= 0 or status[TICKS_DONE] == n:
                 break
             self._workspace = grow(self._workspace, self.body_count, status)
@@ -508,18 +518,24 @@ class World(BodyControl, WorldQueries, WorldScenario):
         self.tick += done
         return recorded
 
+    def _frames(self, record: dict[str, np.ndarray], needed: int) -> tuple:
+        """A frame buffer's arrays as the step writes them, once checked to be one of this world's with
+        room for `needed` frames: the step's compiled entry takes them as they come."""
+        if record is not self._checked_record[0]:
+            check_frame_buffer(record, self.body_count, self._joints.rows)
+            self._checked_record = record, tuple(record.values())
+        if len(record["tick"]) < needed:
+            raise ValueError(f"a frame buffer of {len(record['tick'])} rows cannot hold {needed} frames")
+        return self._checked_record[1]
+
     def load_kernels(self) -> None:
         """Step once and load (or compile) the kernel that grows the step's buffers too, so that a timed
         step loads none: loaded inside the first block of the 210-box pyramid, it took 31 of its 45 ms."""
-        from rustycs.step import grow, new_status
-
         self.step(1)
         self._workspace = grow(self._workspace, self.body_count, new_status())
 
     def frame_buffer(self, capacity: int) -> dict[str, np.ndarray]:
         """An empty buffer for `capacity` frames of this world (see `step` and `capture`)."""
-        from rustycs.recording import frame_buffer
-
         return frame_buffer(capacity, self.body_count, self._joints.rows)
 
     def capture(self, frames: dict[str, np.ndarray], row: int = 0) -> None:

@@ -46,6 +46,38 @@ def test_frame_buffer_too_small_is_refused():
         world.step(10, record=world.frame_buffer(3), every=3)
 
 
+def test_a_buffer_of_another_world_or_type_is_refused_before_any_tick():
+    """The step writes a buffer's arrays unchecked, so a wrong one is refused up front, naming the array."""
+    world = pile()
+    other = World()
+    other.add_body(Circle(0.5))
+    with pytest.raises(ValueError, match="'position' must be .* of shape \\(2, 4, 2\\)"):
+        world.step(2, record=other.frame_buffer(2))
+    wrong = world.frame_buffer(2)
+    wrong["angle"] = wrong["angle"].astype(np.float32)
+    with pytest.raises(ValueError, match="'angle' must be a writeable C-contiguous float64"):
+        world.step(2, record=wrong)
+    reordered = dict(reversed(list(world.frame_buffer(2).items())))
+    with pytest.raises(ValueError, match="in that order"):
+        world.step(2, record=reordered)
+    assert world.tick == 0
+
+
+def test_one_tick_calls_match_one_block_after_the_world_changes():
+    """The step's compiled entry is found again when bodies are added between calls."""
+    block, single = pile(), pile()
+    block.step(5)
+    for _ in range(5):
+        single.step(1)
+    for world in (block, single):
+        world.add_body(Circle(0.2), position=(0.0, 2.0))
+    block.step(20)
+    for _ in range(20):
+        single.step(1)
+    np.testing.assert_array_equal(block.centers, single.centers)
+    np.testing.assert_array_equal(block.velocities, single.velocities)
+
+
 def test_max_speed_counts_active_dynamic_bodies_only():
     world = World(bounds=((-4.0, -4.0), (4.0, 4.0)))
     world.add_body(Circle(0.5), position=(0.0, 0.0), velocity=(3.0, 4.0))

@@ -67,3 +67,13 @@ def test_load_kernels_steps_once_and_loads_the_growth_of_the_buffers_too():
     loaded.step(29)
     plain.step(30)
     assert state(loaded) == state(plain)
+
+
+def test_the_kernel_cache_stamp_covers_what_compiled_code_sees():
+    """The stamp hashes the modules defining kernels and all they import (constants are compiled in),
+    not the Python-only World layer, so that editing the World compiles nothing again."""
+    from rustycs.kernel_cache import _compiled_sources
+
+    modules = set(_compiled_sources())
+    assert {"step", "narrow_phase", "contact_solver", "constants", "pieces", "joints"} <= modules
+    assert not modules & {"world", "body_control", "world_scenario", "kernel_cache"}
