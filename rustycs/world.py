@@ -497,13 +497,17 @@ class World(BodyControl, WorldQueries, WorldScenario):
         self._fold_initial(inputs)
         status, settings = new_status(), self._settings(inputs)
         self._workspace.events.count[0] = 0  # the last call's events were taken
-        if self._entry is None or self._entry[0] is not inputs:
-            self._entry = inputs, compiled_entry(run_ticks, (
-                n, *inputs[:5], settings, self._workspace, inputs.scenario, self.tick, every, frames, status))
-        run = self._entry[1]
+        entry = self._entry[1] if self._entry is not None and self._entry[0] is inputs else None
         while True:
-            run(n, inputs.bodies, inputs.shapes, inputs.joints, inputs.joint_filter, inputs.forces, settings,
-                self._workspace, inputs.scenario, self.tick, every, frames, status)
+            if entry is None:  # through numba's dispatcher, once per make-up of the world
+                run_ticks(n, inputs.bodies, inputs.shapes, inputs.joints, inputs.joint_filter, inputs.forces,
+                          settings, self._workspace, inputs.scenario, self.tick, every, frames, status)
+                entry = compiled_entry(run_ticks, (n, *inputs[:5], settings, self._workspace, inputs.scenario,
+                                                   self.tick, every, frames, status))
+                self._entry = inputs, entry
+            else:
+                entry(n, inputs.bodies, inputs.shapes, inputs.joints, inputs.joint_filter, inputs.forces,
+                      settings, self._workspace, inputs.scenario, self.tick, every, frames, status)
             if status[BAD_BODY] >= 0 or status[STOPPED] >= 0 or status[TICKS_DONE] == n:
                 break
             self._workspace = grow(self._workspace, self.body_count, status)
