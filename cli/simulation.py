@@ -134,6 +134,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
 
             world.capture(frames)
             record(1)
+            world.prepare()  # the step's setup is not stepping time
             status, message, step_seconds = "complete", None, 0.0
             pace = Pace(every, per_call * every)
             while world.tick < ticks:

@@ -484,30 +484,17 @@ class World(BodyControl, WorldQueries, WorldScenario):
         """
         if n <= 0:
             return 0
-        inputs = self._kernel_inputs()
         if record is None:
             every = 0
             frames = self._no_frames
         else:
             frames = self._frames(record, -(-n // every))
-        if self._workspace is None:
-            last = self._last_contacts()
-            self._workspace = new_workspace(self.body_count, self._shapes.rows, self._joints.rows,
-                                            MAX_VERTICES, last.key, last.normal_impulse, last.tangent_impulse)
-        self._fold_initial(inputs)
+        inputs, entry = self._prepared()
         status, settings = new_status(), self._settings(inputs)
         self._workspace.events.count[0] = 0  # the last call's events were taken
-        entry = self._entry[1] if self._entry is not None and self._entry[0] is inputs else None
         while True:
-            if entry is None:  # through numba's dispatcher, once per make-up of the world
-                run_ticks(n, inputs.bodies, inputs.shapes, inputs.joints, inputs.joint_filter, inputs.forces,
-                          settings, self._workspace, inputs.scenario, self.tick, every, frames, status)
-                entry = compiled_entry(run_ticks, (n, *inputs[:5], settings, self._workspace, inputs.scenario,
-                                                   self.tick, every, frames, status))
-                self._entry = inputs, entry
-            else:
-                entry(n, inputs.bodies, inputs.shapes, inputs.joints, inputs.joint_filter, inputs.forces,
-                      settings, self._workspace, inputs.scenario, self.tick, every, frames, status)
+            entry(n, inputs.bodies, inputs.shapes, inputs.joints, inputs.joint_filter, inputs.forces,
+                  settings, self._workspace, inputs.scenario, self.tick, every, frames, status)
             if status[BAD_BODY] >= 0 or status[STOPPED] >= 0 or status[TICKS_DONE] == n:
                 break
             self._workspace = grow(self._workspace, self.body_count, status)
@@ -521,6 +508,28 @@ class World(BodyControl, WorldQueries, WorldScenario):
                                      recorded)
         self.tick += done
         return recorded
+
+    def prepare(self) -> None:
+        """Make what stepping needs now instead of in the next `step`: the kernels' records, the step's
+        buffers and its compiled entry (loaded, or compiled on first use), so that a timed step does no
+        setup (0.9 ms of a five-body world's first block of 100 ticks). Nothing of the state changes."""
+        self._prepared()
+
+    def _prepared(self):
+        """The kernels' inputs and the step's compiled entry for their types, made as needed."""
+        inputs = self._kernel_inputs()
+        if self._workspace is None:
+            last = self._last_contacts()
+            self._workspace = new_workspace(self.body_count, self._shapes.rows, self._joints.rows,
+                                            MAX_VERTICES, last.key, last.normal_impulse, last.tangent_impulse)
+        self._fold_initial(inputs)
+        if self._entry is None or self._entry[0] is not inputs:
+            # zero ticks through numba's dispatcher, once per make-up of the world: it loads the kernel
+            args = (0, *inputs[:5], self._settings(inputs), self._workspace, inputs.scenario, self.tick, 0,
+                    self._no_frames, new_status())
+            run_ticks(*args)
+            self._entry = inputs, compiled_entry(run_ticks, args)
+        return inputs, self._entry[1]
 
     def _frames(self, record: dict[str, np.ndarray], needed: int) -> tuple:
         """A frame buffer's arrays as the step writes them, once checked to be one of this world's with

@@ -69,6 +69,18 @@ def test_load_kernels_steps_once_and_loads_the_growth_of_the_buffers_too():
     assert state(loaded) == state(plain)
 
 
+def test_prepare_makes_the_step_ready_and_changes_nothing():
+    """`prepare` builds the records, buffers and compiled entry a first step would (so that a timed step
+    does no setup), with no tick done and the run going on bit for bit as without it."""
+    prepared, plain = crowd(), crowd()
+    before = state(prepared)
+    prepared.prepare()
+    assert prepared.tick == 0 and state(prepared) == before and prepared._entry is not None
+    prepared.step(30)
+    plain.step(30)
+    assert state(prepared) == state(plain)
+
+
 def test_the_kernel_cache_stamp_covers_what_compiled_code_sees():
     """The stamp hashes the modules defining kernels and all they import (constants are compiled in),
     not the Python-only World layer, so that editing the World compiles nothing again."""

@@ -53,7 +53,8 @@ def step(engine: str, ref: str, max_ticks: int | None, block: int, metrics: list
     if engine == "rustycs":
         from ..simulation import warm_up
 
-        warm_up()  # compiling or loading the kernels is not stepping
+        warm_up()  # compiling or loading the kernels is not stepping, nor is making the step's buffers
+        world.prepare()
         build_s = perf() - began
         elapsed = 0.0
         done = 0
