@@ -101,9 +101,34 @@ class BodyControl:
 
     def _moved(self, row: int) -> None:
         """A static body's shapes are placed once per set of step buffers: make them again. Moving bodies
-        are placed every tick (a jump out of its fat hitbox renews the broad phase's pairs)."""
+        are placed every tick (a jump out of its fat hitbox renews the broad phase's pairs); one asleep
+        wakes, with its island."""
         if self._bodies.columns["body_type"][row] == STATIC:
             self._changed()
+        self._wake_row(row)
+
+    # ------------------------------------------------------------------ sleep
+    @property
+    def asleep(self) -> np.ndarray:
+        """(N,) bool: the bodies whose island sleeps (a World made with `sleep=True`)."""
+        return self._bodies.columns["asleep"][: self.body_count].copy()
+
+    def wake(self, body: Body | None = None) -> None:
+        """Wake the island of `body` (every body: None), as moving or pushing a body does."""
+        columns = self._bodies.columns
+        if body is None:
+            columns["asleep"][:] = False
+            columns["sleep_time"][:] = 0.0
+        else:
+            self._wake_row(self._row(body))
+
+    def _wake_row(self, row: int) -> None:
+        columns = self._bodies.columns
+        if columns["asleep"][row]:
+            island = columns["island"] == columns["island"][row]
+            woken = island & columns["asleep"]
+            columns["asleep"][woken] = False
+            columns["sleep_time"][woken] = 0.0
 
     # ------------------------------------------------------------------ pushing
     def apply_impulse(self, body: Body, impulse, point=None) -> None:
@@ -113,6 +138,7 @@ class BodyControl:
         impulse = _vector(impulse, "an impulse")
         if not self._pushable(row):
             return
+        self._wake_row(row)
         columns = self._bodies.columns
         columns["v"][row] += impulse * columns["inv_mass"][row]
         if point is not None:
@@ -135,6 +161,7 @@ class BodyControl:
         if not math.isfinite(impulse):
             raise ValueError("an angular impulse must be finite")
         if self._pushable(row):
+            self._wake_row(row)
             self._bodies.columns["w"][row] += impulse * self._bodies.columns["inv_inertia"][row]
 
     # ------------------------------------------------------------------ removal

@@ -56,7 +56,7 @@ def pairs_hold(bodies, shapes, geometry, pairs):
     was switched on or off, and every active shape's hitbox lies inside its fat one (a non-finite
     hitbox does not)."""
     hitbox, fat, fat_active = geometry.hitbox, pairs.fat_hitbox, pairs.fat_active
-    active, first, count = bodies.active, bodies.first_shape, bodies.shape_count
+    active, first, count, asleep = bodies.active, bodies.first_shape, bodies.shape_count, bodies.asleep
     if pairs.count[0] < 0:
         return False
     for i in range(active.shape[0]):
@@ -64,8 +64,8 @@ def pairs_hold(bodies, shapes, geometry, pairs):
         for j in range(first[i], first[i] + count[i]):
             if on != fat_active[j]:
                 return False
-            if on and not (fat[j, 0] <= hitbox[j, 0] and fat[j, 1] <= hitbox[j, 1]
-                           and hitbox[j, 2] <= fat[j, 2] and hitbox[j, 3] <= fat[j, 3]):
+            if on and not asleep[i] and not (fat[j, 0] <= hitbox[j, 0] and fat[j, 1] <= hitbox[j, 1]
+                                             and hitbox[j, 2] <= fat[j, 2] and hitbox[j, 3] <= fat[j, 3]):
                 return False
     return True
 

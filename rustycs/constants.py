@@ -23,3 +23,4 @@ BOUNCE_PASSES = 512  # passes of the impact sequence at most (a cradle of n ball
 BOUNCE_SPEED_TOLERANCE = 1e-6  # m/s: slower approaches are no impact
 AT_REST_SPEED = 1e-3  # m/s: a dynamic body slower than this (and AT_REST_ANGULAR_SPEED) is at rest
 AT_REST_ANGULAR_SPEED = 1e-3  # rad/s
+SLEEP_THRESHOLD = 0.05  # m/s: a body slower than this rests towards sleep (Box2D's sleepThreshold)

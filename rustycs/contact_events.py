@@ -3,7 +3,7 @@
 A pair touches in a tick when one of its points overlaps or carries load after the solver (the rule of
 `World.contacts`): a speculative point the bodies have not reached yet does not begin a contact. The
 pairs that touched in the last tick are kept sorted by pair key, as the manifolds come, so one merge
-pass finds the pairs that began and those that ended.
+pass finds the pairs that began and those that ended. A pair of an island asleep still touches.
 """
 
 from __future__ import annotations
@@ -75,6 +75,22 @@ def _approach(bodies, points, manifolds, k, p):
     return max(0.0, -((vbx - vax) * manifolds.data[k, NX] + (vby - vay) * manifolds.data[k, NY]))
 
 
+@njit(cache=True, inline="always")
+def _ended(bodies, tick, events, old_key, old_body, old_point, i, new_key, new_body, new_point, n_new):
+    """Pair i of the last tick is not in this tick's manifolds: it ended (an event), unless its island
+    sleeps (its points are in the store: it still touches). Returns the pairs touching now."""
+    a, b = old_body[i, 0], old_body[i, 1]
+    if bodies.asleep[a] or bodies.asleep[b]:
+        new_key[n_new] = old_key[i]
+        new_body[n_new, 0] = a
+        new_body[n_new, 1] = b
+        new_point[n_new, 0] = old_point[i, 0]
+        new_point[n_new, 1] = old_point[i, 1]
+        return n_new + 1
+    record_event(events, tick, CONTACT_END, a, b, old_point[i, 0], old_point[i, 1], 0.0)
+    return n_new
+
+
 @tick_kernel
 def contact_events(manifolds, n_man, points, bodies, tick, touching, events):
     """Record contact_begin for the pairs touching now that did not in the last tick and contact_end for
@@ -92,8 +108,8 @@ def contact_events(manifolds, n_man, points, bodies, tick, touching, events):
             continue
         key = (manifolds.shape_a[k] << SHAPE_BITS) | manifolds.shape_b[k]
         while i < n_old and old_key[i] < key:  # touched before, not now
-            record_event(events, tick, CONTACT_END, old_body[i, 0], old_body[i, 1], old_point[i, 0],
-                         old_point[i, 1], 0.0)
+            n_new = _ended(bodies, tick, events, old_key, old_body, old_point, i, new_key, new_body,
+                           new_point, n_new)
             i += 1
         px, py = points.position[p, 0], points.position[p, 1]
         if i < n_old and old_key[i] == key:
@@ -108,8 +124,8 @@ def contact_events(manifolds, n_man, points, bodies, tick, touching, events):
         new_point[n_new, 1] = py
         n_new += 1
     while i < n_old:
-        record_event(events, tick, CONTACT_END, old_body[i, 0], old_body[i, 1], old_point[i, 0],
-                     old_point[i, 1], 0.0)
+        n_new = _ended(bodies, tick, events, old_key, old_body, old_point, i, new_key, new_body, new_point,
+                       n_new)
         i += 1
     for j in range(n_new):
         old_key[j] = new_key[j]

@@ -106,15 +106,16 @@ def relative_speed(vax, vay, wa, vbx, vby, wb, nx, ny, rna, rnb):
 
 @njit(cache=True, inline="always")
 def load_bodies(bodies, body):
-    """Fill the solver rows of the bodies: velocities, inverse masses, no displacement yet since the
-    narrow phase."""
-    v, w, inv_mass, inv_inertia = bodies.v, bodies.w, bodies.inv_mass, bodies.inv_inertia
+    """Fill the solver rows of the bodies: velocities, inverse masses (none for a body asleep: a joint to
+    the world moves it no more than a wall), no displacement yet since the narrow phase."""
+    v, w, asleep = bodies.v, bodies.w, bodies.asleep
+    inv_mass, inv_inertia = bodies.inv_mass, bodies.inv_inertia
     for i in range(v.shape[0]):
         body[i, VX] = v[i, 0]
         body[i, VY] = v[i, 1]
         body[i, W] = w[i]
-        body[i, INV_MASS] = inv_mass[i]
-        body[i, INV_INERTIA] = inv_inertia[i]
+        body[i, INV_MASS] = 0.0 if asleep[i] else inv_mass[i]
+        body[i, INV_INERTIA] = 0.0 if asleep[i] else inv_inertia[i]
         body[i, DX] = 0.0
         body[i, DY] = 0.0
         body[i, COS] = 1.0

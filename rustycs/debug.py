@@ -15,7 +15,15 @@ from rustycs.constants import SPECULATIVE_DISTANCE
 from rustycs.contact_batches import schedule as schedule_chunks
 from rustycs.contact_solver import INV_INERTIA, INV_MASS, LANES
 from rustycs.geometry import new_geometry, update_geometry
-from rustycs.narrow_phase import FEATURE_BITS, NX, NY, SEPARATION, narrow_phase, new_contacts
+from rustycs.narrow_phase import (
+    FEATURE_BITS,
+    NX,
+    NY,
+    SEPARATION,
+    narrow_phase,
+    new_contacts,
+    no_sleeping_points,
+)
 from rustycs.pieces import MAX_VERTICES
 from rustycs.shapes import Shape
 from rustycs.world import World
@@ -105,7 +113,7 @@ def collide(a: tuple[Shape, tuple[float, float], float], b: tuple[Shape, tuple[f
     rows = np.arange(len(shapes.body))
     keys = np.array([(i << SHAPE_BITS) | j for i in rows[shapes.body == 0] for j in rows[shapes.body == 1]],
                     dtype=np.int64)
-    contacts = new_contacts(max(len(keys), 1))
+    contacts = new_contacts(max(len(keys), 1), False, no_sleeping_points())
     n_man, _ = narrow_phase(keys, len(keys), bodies, shapes, geometry, margin, world.dt, contacts)  # at rest
     m, p = contacts.manifolds, contacts.points
     found = []

@@ -13,6 +13,8 @@ MAX_PRECISION = 1000  # more substeps than this buy nothing and make one tick ta
 GRAVITATIONAL_CONSTANT = 1.0  # G of the attractors
 RESTITUTION_THRESHOLD = 1.0  # m/s: contacts approaching slower do not bounce (Box2D's default)
 MIN_DISTANCE = 0.01  # m: an attractor's softening, d is taken as max(d, min_distance)
+SLEEP = False  # islands at rest sleep (off: results are those of a world that never sleeps)
+SLEEP_TIME = 0.5  # s an island rests before it sleeps (Box2D's b2_timeToSleep)
 
 # Bodies
 BODY_TYPE = "dynamic"

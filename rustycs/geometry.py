@@ -72,16 +72,17 @@ def place_piece(shapes, j, px, py, c, s, geometry, row):
 
 @tick_kernel
 def update_geometry(bodies, shapes, margin, dt, statics, geometry):
-    """Place every shape of the active bodies (of static ones too when `statics`), and grow each hitbox by
-    its body's reach: the margin plus the farthest its shapes' cores travel in a tick (|v| + |w| extent)."""
-    x, angle, v, w, extent, active, body_type, first, count = (
+    """Place every shape of the active bodies awake (of static ones too when `statics`), and grow each
+    hitbox by its body's reach: the margin plus the farthest its shapes' cores travel in a tick
+    (|v| + |w| extent)."""
+    x, angle, v, w, extent, active, body_type, first, count, asleep = (
         bodies.x, bodies.angle, bodies.v, bodies.w, bodies.extent, bodies.active, bodies.body_type,
-        bodies.first_shape, bodies.shape_count)
+        bodies.first_shape, bodies.shape_count, bodies.asleep)
     n_verts, local_centroid, radius = shapes.count, shapes.centroid, shapes.radius
     centroid, hitbox, reach = geometry.centroid, geometry.hitbox, geometry.reach
     for i in range(x.shape[0]):
-        if not active[i] or (body_type[i] == STATIC and not statics):
-            continue
+        if not active[i] or asleep[i] or (body_type[i] == STATIC and not statics):
+            continue  # an asleep body's geometry is that of its pose, which it keeps
         px, py = x[i, 0], x[i, 1]
         fat = margin + dt * (math.sqrt(v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1]) + abs(w[i]) * extent[i])
         reach[i] = fat

@@ -161,9 +161,9 @@ def _quantity(code, bodies, i):
 
 
 @njit(cache=True, inline="always")
-def _observable(code, bodies, forces, points, n_points):
+def _observable(code, bodies, forces, contacts):
     if code >= OBSERVABLE + 5:
-        count, deepest = contact_statistics(points, n_points)
+        count, deepest = contact_statistics(contacts)
         return float(count) if code == OBSERVABLE + 5 else deepest
     kinetic, potential, px, py, angular = energies_and_momenta(bodies, forces)
     return (kinetic, potential, px, py, angular)[code - OBSERVABLE]
@@ -189,13 +189,13 @@ def _median(values, n):
 
 
 @njit(cache=True, inline="always")
-def _sample(measures, m, bodies, forces, points, n_points):
+def _sample(measures, m, bodies, forces, contacts):
     """Measure m's values now (value, count_inside, histogram) into measures.sample at its rows."""
     row = measures.row_first[m]
     sample, members, q = measures.sample, measures.members, measures.quantity[m]
     form, aggregate = measures.form[m], measures.aggregate[m]
     if form == VALUE and q >= OBSERVABLE:
-        sample[row] = _observable(q, bodies, forces, points, n_points)
+        sample[row] = _observable(q, bodies, forces, contacts)
         return
     if form == HISTOGRAM:
         edges, e0 = measures.edges, measures.edge_first[m]
@@ -251,7 +251,7 @@ def _sample(measures, m, bodies, forces, points, n_points):
 
 
 @tick_kernel
-def fold(measures, bodies, forces, points, n_points, sensors, events, first_event, tick, dt):
+def fold(measures, bodies, forces, contacts, sensors, events, first_event, tick, dt):
     """Fold the state after `tick` (0: the initial state) into every measure that takes ticks: extremes,
     means, values at a tick, the first events among events[first_event:] and time inside sensors."""
     value, samples, sample = measures.value, measures.samples, measures.sample
@@ -279,7 +279,7 @@ def fold(measures, bodies, forces, points, n_points, sensors, events, first_even
         if reduce == FINAL or (reduce == INITIAL and tick > 0) or (
                 reduce == AT and tick != measures.at_tick[m]):
             continue
-        _sample(measures, m, bodies, forces, points, n_points)
+        _sample(measures, m, bodies, forces, contacts)
         for r in range(row, measures.row_first[m + 1]):
             s = sample[r]
             if reduce == INITIAL or reduce == AT:
@@ -295,11 +295,11 @@ def fold(measures, bodies, forces, points, n_points, sensors, events, first_even
 
 
 @njit(cache=True)
-def finish(measures, bodies, forces, points, n_points):
+def finish(measures, bodies, forces, contacts):
     """Take the final values from the state now (the end of the run)."""
     for m in range(measures.form.shape[0]):
         if measures.reduce[m] != FINAL or measures.form[m] == FIRST or measures.form[m] == TIME_INSIDE:
             continue
-        _sample(measures, m, bodies, forces, points, n_points)
+        _sample(measures, m, bodies, forces, contacts)
         for r in range(measures.row_first[m], measures.row_first[m + 1]):
             measures.value[r] = measures.sample[r]

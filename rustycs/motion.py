@@ -16,6 +16,7 @@ from rustycs.body_types import DYNAMIC, STATIC
 from rustycs.contact_solver import COS, DX, DY, SIN, VX, VY, W
 from rustycs.events import ESCAPE, record_event
 from rustycs.forces import attraction
+from rustycs.sleep import wake_island
 from rustycs.tick_kernel import tick_kernel
 
 
@@ -42,10 +43,11 @@ def damp(body, bodies, decay):
 
 @njit(cache=True, inline="always")
 def integrate_velocities(body, bodies, forces, h):
-    x, body_type, active, scale = bodies.x, bodies.body_type, bodies.active, bodies.gravity_scale
+    x, body_type, active, scale, asleep = (bodies.x, bodies.body_type, bodies.active, bodies.gravity_scale,
+                                           bodies.asleep)
     gx, gy = forces.gravity[0], forces.gravity[1]
     for i in range(x.shape[0]):
-        if body_type[i] != DYNAMIC or not active[i]:
+        if body_type[i] != DYNAMIC or not active[i] or asleep[i]:
             continue
         ax, ay = attraction(x[i, 0], x[i, 1], forces)
         body[i, VX] += h * (scale[i] * gx + ax)
@@ -92,7 +94,10 @@ def first_non_finite(bodies):
 
 @njit(cache=True, inline="always")
 def deactivate(bodies, i):
-    """Take body i out of the world: frozen, no longer collides (it left the bounds or was removed)."""
+    """Take body i out of the world: frozen, no longer collides (it left the bounds or was removed); the
+    island it slept in wakes, as it no longer holds the others up."""
+    if bodies.asleep[i]:
+        wake_island(bodies, bodies.island[i])
     bodies.active[i] = False
     bodies.v[i, 0] = 0.0
     bodies.v[i, 1] = 0.0

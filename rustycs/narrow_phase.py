@@ -60,11 +60,24 @@ class Points(NamedTuple):
     data: np.ndarray  # (P, POINT_COLUMNS)
 
 
+class SleepingPoints(NamedTuple):
+    """The points of the pairs asleep (filled by `rustycs.sleep`), as they were when their island fell
+    asleep, sorted by key, each with its pair's bodies and normal; the first count[0] are in use."""
+
+    key: np.ndarray  # (C,) int64
+    body: np.ndarray  # (C, 2) int64
+    normal: np.ndarray  # (C, 2)
+    position: np.ndarray  # (C, 2)
+    data: np.ndarray  # (C, POINT_COLUMNS)
+    count: np.ndarray  # int64 (1,)
+
+
 class Contacts(NamedTuple):
-    """A tick's manifolds and points, for up to `capacity` pairs."""
+    """A tick's manifolds and points, for up to `capacity` pairs, and the points of the pairs asleep."""
 
     manifolds: Manifolds
     points: Points
+    asleep: SleepingPoints  # no room (0 rows) in a world that never sleeps
     count: np.ndarray  # int64 (2,): manifolds and points in use
     paired: np.ndarray  # (capacity,) bool: whether candidate pair k got a manifold that holds it
     collision: Collision  # one pair's scratch
@@ -72,19 +85,45 @@ class Contacts(NamedTuple):
 
 
 @njit(cache=True)
-def new_contacts(capacity):
+def new_sleeping_points(capacity, kept):
+    """Room for `capacity` sleeping points, holding the entries of `kept` (another store)."""
+    capacity = max(capacity, kept.count[0])
+    stored = SleepingPoints(np.empty(capacity, np.int64), np.empty((capacity, 2), np.int64),
+                            np.empty((capacity, 2)), np.empty((capacity, 2)),
+                            np.empty((capacity, POINT_COLUMNS)), np.zeros(1, np.int64))
+    n = kept.count[0]
+    stored.key[:n] = kept.key[:n]
+    stored.body[:n] = kept.body[:n]
+    stored.normal[:n] = kept.normal[:n]
+    stored.position[:n] = kept.position[:n]
+    stored.data[:n] = kept.data[:n]
+    stored.count[0] = n
+    return stored
+
+
+@njit(cache=True)
+def no_sleeping_points():
+    return SleepingPoints(np.empty(0, np.int64), np.empty((0, 2), np.int64), np.empty((0, 2)),
+                          np.empty((0, 2)), np.empty((0, POINT_COLUMNS)), np.zeros(1, np.int64))
+
+
+@njit(cache=True)
+def new_contacts(capacity, sleeps, kept):
+    """Buffers for a tick's contacts of up to `capacity` pairs; when the world `sleeps`, a store of sleeping
+    points as large as the points (a pair's points are in one of the two), holding those of `kept`."""
     manifolds = Manifolds(np.empty(capacity, np.int64), np.empty(capacity, np.int64),
                           np.empty(capacity, np.int64), np.empty(capacity, np.int64),
                           np.empty(capacity, np.int64), np.empty(capacity, np.int64),
                           np.empty((capacity, MANIFOLD_COLUMNS)))
     points = Points(np.empty(2 * capacity, np.int64), np.empty((2 * capacity, 2)),
                     np.zeros((2 * capacity, POINT_COLUMNS)))
-    return Contacts(manifolds, points, np.zeros(2, np.int64), np.zeros(capacity, np.bool_), new_collision(),
-                    new_sweep())
+    asleep = new_sleeping_points(2 * capacity if sleeps else 0, kept)
+    return Contacts(manifolds, points, asleep, np.zeros(2, np.int64), np.zeros(capacity, np.bool_),
+                    new_collision(), new_sweep())
 
 
 @njit(cache=True, inline="always")
-def _collide(shapes, geometry, sa, sb, within, out):
+def collide_pair(shapes, geometry, sa, sb, within, out):
     """The manifold of shapes sa and sb (kinds in any order), its normal from sa to sb."""
     kind, radius, n_verts = shapes.kind, shapes.radius, shapes.count
     verts, normals, centroid = geometry.vertices, geometry.normals, geometry.centroid
@@ -144,7 +183,7 @@ def _swept_collision(bodies, shapes, sa, sb, dt, within, count, sweep, out):
         return 0.0, 0 if closing else count
     if impact == 0.0:
         return 0.0, count
-    return impact, _collide(sweep, sweep.geometry, 0, 1, within, out)
+    return impact, collide_pair(sweep, sweep.geometry, 0, 1, within, out)
 
 
 @tick_kernel
@@ -161,7 +200,7 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, conta
     m_shape_a, m_shape_b, m_body_a, m_body_b, m_first, m_count, m_data = contacts.manifolds
     p_key, p_position, p_data = contacts.points
     out, sweep, paired = contacts.collision, contacts.sweep, contacts.paired
-    x, v, w, extent = bodies.x, bodies.v, bodies.w, bodies.extent
+    x, v, w, extent, asleep = bodies.x, bodies.v, bodies.w, bodies.extent, bodies.asleep
     body, hitbox, reach = shapes.body, geometry.hitbox, geometry.reach
     friction, restitution, radius = shapes.friction, shapes.restitution, shapes.radius
     n_man = 0
@@ -174,7 +213,9 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, conta
             continue
         a = body[sa]
         b = body[sb]
-        count = _collide(shapes, geometry, sa, sb, reach[a] + reach[b] - margin, out)
+        if asleep[a] or asleep[b]:
+            continue  # an island asleep: its points are in the store (`rustycs.sleep`)
+        count = collide_pair(shapes, geometry, sa, sb, reach[a] + reach[b] - margin, out)
         if count == 0:
             continue
         impact = 0.0
@@ -257,21 +298,47 @@ class ContactRows(NamedTuple):
 
 @njit(cache=True)
 def contact_rows(contacts):
-    """The contact points in use, one row each: key, bodies, position, normal, separation and impulses
-    (what `World.contacts()` reports, and the warm-start cache of a rebuilt workspace)."""
-    m = contacts.manifolds
-    p = contacts.points
-    n_man = contacts.count[0]
-    n_pts = contacts.count[1]
-    body_a = np.empty(n_pts, dtype=np.int64)
-    body_b = np.empty(n_pts, dtype=np.int64)
-    normal = np.empty((n_pts, 2))
+    """The contact points in use, one row each, sorted by key: key, bodies, position, normal, separation
+    and impulses (what `World.contacts()` reports, and the warm-start cache of a rebuilt workspace), the
+    tick's points and those asleep together."""
+    m, p, stored = contacts.manifolds, contacts.points, contacts.asleep
+    n_man, n_pts, n_stored = contacts.count[0], contacts.count[1], stored.count[0]
+    n = n_pts + n_stored
+    key = np.empty(n, np.int64)
+    body_a = np.empty(n, np.int64)
+    body_b = np.empty(n, np.int64)
+    point = np.empty((n, 2))
+    normal = np.empty((n, 2))
+    data = np.empty((n, POINT_COLUMNS))
+    f = 0
+    row = 0
     for k in range(n_man):
         for j in range(m.first[k], m.first[k] + m.count[k]):
-            body_a[j] = m.body_a[k]
-            body_b[j] = m.body_b[k]
-            normal[j, 0] = m.data[k, NX]
-            normal[j, 1] = m.data[k, NY]
-    return ContactRows(p.key[:n_pts].copy(), body_a, body_b, p.position[:n_pts].copy(), normal,
-                       p.data[:n_pts, SEPARATION].copy(), p.data[:n_pts, NORMAL_IMPULSE].copy(),
-                       p.data[:n_pts, TANGENT_IMPULSE].copy())
+            while f < n_stored and stored.key[f] < p.key[j]:
+                _stored_row(stored, f, key, body_a, body_b, point, normal, data, row)
+                f += 1
+                row += 1
+            key[row] = p.key[j]
+            body_a[row] = m.body_a[k]
+            body_b[row] = m.body_b[k]
+            point[row] = p.position[j]
+            normal[row, 0] = m.data[k, NX]
+            normal[row, 1] = m.data[k, NY]
+            data[row] = p.data[j]
+            row += 1
+    while f < n_stored:
+        _stored_row(stored, f, key, body_a, body_b, point, normal, data, row)
+        f += 1
+        row += 1
+    return ContactRows(key, body_a, body_b, point, normal, data[:, SEPARATION].copy(),
+                       data[:, NORMAL_IMPULSE].copy(), data[:, TANGENT_IMPULSE].copy())
+
+
+@njit(cache=True, inline="always")
+def _stored_row(stored, f, key, body_a, body_b, point, normal, data, row):
+    key[row] = stored.key[f]
+    body_a[row] = stored.body[f, 0]
+    body_b[row] = stored.body[f, 1]
+    point[row] = stored.position[f]
+    normal[row] = stored.normal[f]
+    data[row] = stored.data[f]

@@ -42,17 +42,20 @@ def energies_and_momenta(bodies, forces):
 
 
 @njit(cache=True, inline="always")
-def contact_statistics(points, n_points):
-    """Touching points (overlapping or carrying load) and the deepest overlap among the first n_points
-    contact points, without building the contact list."""
-    data = points.data
-    count = 0
-    deepest = 0.0
-    for p in range(n_points):
+def _touching(data, n, count, deepest):
+    for p in range(n):
         if data[p, SEPARATION] <= 0.0 or data[p, NORMAL_IMPULSE] > 0.0:
             count += 1
             deepest = max(deepest, -data[p, SEPARATION])
     return count, deepest
+
+
+@njit(cache=True, inline="always")
+def contact_statistics(contacts):
+    """Touching points (overlapping or carrying load) and the deepest overlap among the last tick's
+    contact points and those asleep, without building the contact list."""
+    count, deepest = _touching(contacts.points.data, contacts.count[1], 0, 0.0)
+    return _touching(contacts.asleep.data, contacts.asleep.count[0], count, deepest)
 
 
 @njit(cache=True, inline="always")

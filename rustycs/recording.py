@@ -2,7 +2,7 @@
 buffers the caller owns (so that recording every tick costs no Python per tick).
 
 A frame buffer is a dict of arrays with one row per frame: the tick, each body's origin, velocity,
-angle, angular velocity and active flag, the observables of the dynamic bodies (energies, momenta,
+angle, angular velocity, active and asleep flags, the observables of the dynamic bodies (energies, momenta,
 fastest speed) and of the last tick's contacts (count, deepest overlap), and each joint's reaction
 (force on its second body, torque) and active flag.
 """
@@ -27,6 +27,7 @@ FRAME_FIELDS = {
     "angle": (("n",), np.float64),
     "angular_velocity": (("n",), np.float64),
     "active": (("n",), np.bool_),
+    "asleep": (("n",), np.bool_),
     "kinetic_energy": ((), np.float64),
     "potential_energy": ((), np.float64),
     "linear_momentum": ((2,), np.float64),
@@ -67,11 +68,11 @@ def check_frame_buffer(record: dict[str, np.ndarray], bodies: int, joints: int) 
 
 
 @tick_kernel
-def record_frame(frames, k, tick, bodies, joints, forces, points, n_points):
+def record_frame(frames, k, tick, bodies, joints, forces, contacts):
     """Write the current state into row k of `frames` (the buffer's arrays as a tuple, in FRAME_FIELDS
-    order); `points` are the last tick's contact points."""
-    (ticks, position, velocity, angles, angular_velocity, is_active, kinetic, potential, momentum, angular,
-     contact_count, max_penetration, max_speed, joint_force, joint_torque, joint_active) = frames
+    order); `contacts` are the last tick's."""
+    (ticks, position, velocity, angles, angular_velocity, is_active, is_asleep, kinetic, potential, momentum,
+     angular, contact_count, max_penetration, max_speed, joint_force, joint_torque, joint_active) = frames
     for j in range(joints.kind.shape[0]):
         joint_force[k, j, 0] = joints.reaction[j, FORCE_X]
         joint_force[k, j, 1] = joints.reaction[j, FORCE_Y]
@@ -88,9 +89,10 @@ def record_frame(frames, k, tick, bodies, joints, forces, points, n_points):
         angles[k, i] = angle[i]
         angular_velocity[k, i] = w[i]
         is_active[k, i] = active[i]
+        is_asleep[k, i] = bodies.asleep[i]
         if body_type[i] == DYNAMIC and active[i]:
             fastest = max(fastest, v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1])
     max_speed[k] = math.sqrt(fastest)
     kinetic[k], potential[k], momentum[k, 0], momentum[k, 1], angular[k] = energies_and_momenta(bodies,
                                                                                                 forces)
-    contact_count[k], max_penetration[k] = contact_statistics(points, n_points)
+    contact_count[k], max_penetration[k] = contact_statistics(contacts)

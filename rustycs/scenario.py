@@ -31,15 +31,14 @@ def events_bound(n_sensor_bodies, n_bodies, n_joints, n_manifolds, n_touching):
 
 
 @tick_kernel
-def after_tick(scenario, bodies, shapes, forces, points, n_points, events, first_event, tick, dt):
+def after_tick(scenario, bodies, shapes, forces, contacts, events, first_event, tick, dt):
     """Everything but the physics at the end of `tick`, whose events so far are events[first_event:];
     returns the first stop condition that holds (-1: none)."""
     appear_and_vanish(scenario.life, bodies, shapes, tick, events)
     if scenario.sensors.body.shape[0] > 0:
         sense(scenario.sensors, bodies, shapes, tick, events)
     if scenario.measures.form.shape[0] > 0:
-        fold(scenario.measures, bodies, forces, points, n_points, scenario.sensors, events, first_event, tick,
-             dt)
+        fold(scenario.measures, bodies, forces, contacts, scenario.sensors, events, first_event, tick, dt)
     if scenario.stops.kind.shape[0] == 0:
         return -1
     return first_held(scenario.stops, bodies, scenario.sensors, events, first_event)

@@ -20,7 +20,7 @@ from rustycs.body_types import DYNAMIC
 from rustycs.events import SENSOR_ENTER, SENSOR_EXIT, record_event
 from rustycs.geometry import Geometry, new_geometry, place_piece
 from rustycs.manifold import Collision, new_collision
-from rustycs.narrow_phase import _collide
+from rustycs.narrow_phase import collide_pair
 from rustycs.tick_kernel import tick_kernel
 
 
@@ -59,7 +59,7 @@ def _overlaps(shapes, sensors, first, count, b, bodies):
         for q in range(first, first + count):
             if not shapes.sensor[q]:
                 continue
-            n = _collide(shapes, geometry, q, j, 0.0, out)
+            n = collide_pair(shapes, geometry, q, j, 0.0, out)
             if n > 0 and min(out.separations[0], out.separations[n - 1]) <= 0.0:
                 return True
     return False

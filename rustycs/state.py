@@ -36,6 +36,9 @@ class Bodies(NamedTuple):
     extent: np.ndarray  # (N,) m: the farthest point of its shapes' cores from the centre of mass
     first_shape: np.ndarray  # (N,) int64 row of the body's first shape in Shapes
     shape_count: np.ndarray  # (N,) int64 rows of its shapes, consecutive
+    asleep: np.ndarray  # (N,) bool: its island sleeps (`rustycs.sleep`): frozen, skipped, still colliding
+    sleep_time: np.ndarray  # (N,) s it has rested
+    island: np.ndarray  # (N,) int64 while asleep: the root row of its island
 
 
 class Shapes(NamedTuple):
@@ -65,8 +68,8 @@ BODY_COLUMNS = {"x": ((2,), np.float64), "angle": ((), np.float64), "v": ((2,), 
              "active": ((), np.bool_), "origin": ((2,), np.float64), "linear_damping": ((), np.float64),
              "angular_damping": ((), np.float64), "gravity_scale": ((), np.float64),
              "fixed_rotation": ((), np.bool_), "bullet": ((), np.bool_), "extent": ((), np.float64),
-             "first_shape": ((), np.int64),
-             "shape_count": ((), np.int64)}
+             "first_shape": ((), np.int64), "shape_count": ((), np.int64), "asleep": ((), np.bool_),
+             "sleep_time": ((), np.float64), "island": ((), np.int64)}
 SHAPE_COLUMNS = {"body": ((), np.int64), "kind": ((), np.int64), "radius": ((), np.float64),
              "count": ((), np.int64), "vertices": ((MAX_VERTICES, 2), np.float64),
              "normals": ((MAX_VERTICES, 2), np.float64), "centroid": ((2,), np.float64),

@@ -64,9 +64,10 @@ from rustycs.motion import (
     integrate_positions,
     integrate_velocities,
 )
-from rustycs.narrow_phase import Contacts, narrow_phase, new_contacts
+from rustycs.narrow_phase import Contacts, narrow_phase, new_contacts, no_sleeping_points
 from rustycs.recording import record_frame
 from rustycs.scenario import after_tick, events_bound
+from rustycs.sleep import Islands, fall_asleep, new_islands, wake_reached, warm_from_sleep
 from rustycs.tick_kernel import tick_kernel
 
 
@@ -79,6 +80,8 @@ class Settings(NamedTuple):
     bounds: np.ndarray  # (4,) xmin, ymin, xmax, ymax: dynamic bodies leaving them are deactivated
     has_bounds: bool
     contact_events: bool  # record contact_begin and contact_end
+    sleep: bool  # islands at rest sleep (`rustycs.sleep`)
+    sleep_time: float  # s an island rests before it sleeps
 
 
 class Workspace(NamedTuple):
@@ -98,36 +101,39 @@ class Workspace(NamedTuple):
     events: Events
     statics_placed: np.ndarray  # bool (1,): the static bodies' geometry is up to date
     touching: Touching  # the shape pairs touching in the last tick (contact events)
+    islands: Islands  # scratch of sleeping
 
 
 @njit(cache=True)
-def new_workspace(n_bodies, n_shapes, n_joints, max_vertices, c_key, c_jn, c_jt):
-    """Buffers for stepping, with a warm-start cache (keys and impulses) carried over."""
+def new_workspace(n_bodies, n_shapes, n_joints, max_vertices, c_key, c_jn, c_jt, sleeps):
+    """Buffers for stepping, with a warm-start cache (keys and impulses) carried over; with `sleeps`, room
+    for the points of islands asleep."""
     capacity = max(4 * n_shapes + 16, c_key.shape[0])
     pairs = Pairs(np.empty(capacity, np.int64), np.full(1, -1, np.int64), np.full((n_shapes, 4), np.nan),
                   np.zeros(n_shapes, np.bool_), np.empty(grid_scratch_size(n_shapes), np.int64),
                   np.empty(n_shapes), np.empty(capacity, np.int64))
-    return Workspace(new_geometry(n_bodies, n_shapes, max_vertices), pairs, new_contacts(capacity),
+    return Workspace(new_geometry(n_bodies, n_shapes, max_vertices), pairs,
+                     new_contacts(capacity, sleeps, no_sleeping_points()),
                      new_cache(2 * capacity, c_key, c_jn, c_jt), np.empty((n_bodies, BODY_COLUMNS)),
                      new_batches(n_bodies, capacity), np.empty(capacity * LANE_FIELDS),
                      np.ones((n_bodies, 2)), np.zeros((n_bodies, BODY_COLUMNS)),
                      np.ones((n_bodies, SCRATCH_COLUMNS)), new_joint_work(n_bodies, n_joints),
                      new_events(events_bound(0, n_bodies, n_joints, capacity, capacity)),  # tick 1 fits
-                     np.zeros(1, np.bool_), new_touching(capacity))
+                     np.zeros(1, np.bool_), new_touching(capacity), new_islands(n_bodies if sleeps else 0))
 
 
 @njit(cache=True)
 def grown(ws, n_bodies, cells, pairs, points, chunks, events):
     """The workspace with every buffer that holds fewer than these entries replaced by one twice as
     large (the contents of a replaced buffer are not kept: each is refilled by its stage; the events
-    so far and the pairs touching are)."""
+    so far, the pairs touching and the points asleep are)."""
     p = ws.pairs
     if cells > p.cells.shape[0] or pairs > p.keys.shape[0]:
         p = Pairs(np.empty(max(2 * pairs, p.keys.shape[0]), np.int64), p.count, p.fat_hitbox, p.fat_active,
                   p.grid, p.extents, np.empty(max(2 * cells, p.cells.shape[0]), np.int64))
     contacts, batches, touching = ws.contacts, ws.batches, ws.touching
     if pairs > contacts.manifolds.first.shape[0]:
-        contacts = new_contacts(2 * pairs)
+        contacts = new_contacts(2 * pairs, contacts.asleep.key.shape[0] > 0, contacts.asleep)
         batches = new_batches(n_bodies, 2 * pairs)
         touching = grown_touching(touching, 2 * pairs)
     kept = ws.events
@@ -141,7 +147,7 @@ def grown(ws, n_bodies, cells, pairs, points, chunks, events):
     if chunks * LANES * LANE_FIELDS > lanes.shape[0]:
         lanes = np.empty(2 * chunks * LANES * LANE_FIELDS)
     return Workspace(ws.geometry, p, contacts, cache, ws.body, batches, lanes, ws.decay, ws.bounce_velocity,
-                     ws.held_back, ws.joint_work, kept, ws.statics_placed, touching)
+                     ws.held_back, ws.joint_work, kept, ws.statics_placed, touching, ws.islands)
 
 
 @tick_kernel
@@ -206,7 +212,7 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
     stiff = softness(min(2.0 * contact_hertz, 0.25 / h), CONTACT_DAMPING_RATIO, h)
     joint_soft = softness(JOINT_STIFFNESS / h, JOINT_DAMPING_RATIO, h)
     (geometry, pairs, contacts, cache, body, batches, lanes, decay, bounce_velocity, held_back, joint_work,
-     events, statics_placed, touching) = ws
+     events, statics_placed, touching, islands) = ws
     damping_factors(bodies, dt, decay)
     prepare_block(joints, h, joint_work)
     breaking = breakable(joints)
@@ -230,6 +236,9 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
         if n_pairs > contacts.manifolds.first.shape[0] or 2 * n_pairs > cache.key.shape[0]:
             status[NEED_PAIRS] = n_pairs
             return
+        if settings.sleep:
+            wake_reached(pairs.keys, n_pairs, bodies, shapes, geometry, joints, contacts,
+                         SPECULATIVE_DISTANCE, islands)
         n_man, n_pts = narrow_phase(pairs.keys, n_pairs, bodies, shapes, geometry, SPECULATIVE_DISTANCE, dt,
                                     contacts)
         room = events.count[0] + events_bound(scenario.sensors.body.shape[0], bodies.x.shape[0],
@@ -240,6 +249,8 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
         first_event = events.count[0]
         tick = first_tick + status[TICKS_DONE] + 1
         warm_start_points(contacts.points, n_pts, cache)
+        if contacts.asleep.count[0] > 0:
+            warm_from_sleep(contacts.points, n_pts, bodies, contacts.asleep)
         load_bodies(bodies, body)
         damp(body, bodies, decay)
         prepare_joints(bodies, joints, tick, joint_work)
@@ -262,6 +273,8 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
         hold_back_passes(pairs.keys, n_pairs, contacts.paired, bodies, shapes, geometry, body, dt,
                          SPECULATIVE_DISTANCE, contacts.sweep, held_back)
         remember(contacts.points, n_pts, cache)
+        if settings.sleep:
+            fall_asleep(bodies, body, joints, contacts, settings.sleep_time, dt, islands)
         done = status[TICKS_DONE] + 1
         recorded = every > 0 and (done % every == 0 or done == n_ticks)
         reacted = breaking or recorded or done == n_ticks  # else nobody reads this tick's reactions
@@ -279,15 +292,14 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
             return
         if settings.has_bounds:
             status[ESCAPED] += apply_bounds(bodies, settings.bounds, tick, events)
-        status[STOPPED] = after_tick(scenario, bodies, shapes, forces, contacts.points, n_pts, events,
-                                     first_event, tick, dt)
+        status[STOPPED] = after_tick(scenario, bodies, shapes, forces, contacts, events, first_event, tick,
+                                     dt)
         status[TICKS_DONE] = done
         stopped = status[STOPPED] >= 0
         if stopped and not reacted:
             joint_reactions(bodies, body, joints, joint_work, h)  # the last tick of the block
         if recorded or (every > 0 and stopped):
-            record_frame(frames, status[FRAMES], first_tick + done, bodies, joints, forces, contacts.points,
-                         n_pts)
+            record_frame(frames, status[FRAMES], first_tick + done, bodies, joints, forces, contacts)
             status[FRAMES] += 1
         if stopped:
             return

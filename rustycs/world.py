@@ -86,7 +86,8 @@ class World(BodyControl, WorldQueries, WorldScenario):
 
     def __init__(self, tick_rate: float = defaults.TICK_RATE, precision: int = defaults.PRECISION,
                  gravitational_constant: float = defaults.GRAVITATIONAL_CONSTANT, bounds=None,
-                 restitution_threshold: float = defaults.RESTITUTION_THRESHOLD):
+                 restitution_threshold: float = defaults.RESTITUTION_THRESHOLD, sleep: bool = defaults.SLEEP,
+                 sleep_time: float = defaults.SLEEP_TIME):
         ensure_fresh()  # before any kernel runs: a cache compiled from other sources is dropped
         if not 0 < tick_rate < math.inf:
             raise ValueError("tick_rate must be finite and > 0")
@@ -98,6 +99,10 @@ class World(BodyControl, WorldQueries, WorldScenario):
         self.gravitational_constant = float(gravitational_constant)
         self.bounds = None if bounds is None else (tuple(map(float, bounds[0])), tuple(map(float, bounds[1])))
         self.restitution_threshold = float(restitution_threshold)
+        if not 0 < sleep_time < math.inf:
+            raise ValueError("sleep_time must be finite and > 0")
+        self._sleep = bool(sleep)
+        self.sleep_time = float(sleep_time)
         self.tick = 0
         self.escaped_count = 0
         self._gravity = np.zeros(2)
@@ -123,12 +128,23 @@ class World(BodyControl, WorldQueries, WorldScenario):
     def body_count(self) -> int:
         return self._bodies.rows
 
+    @property
+    def sleep(self) -> bool:
+        """Whether islands of bodies that rest together for `sleep_time` seconds sleep (`rustycs.sleep`)."""
+        return self._sleep
+
+    @sleep.setter
+    def sleep(self, value: bool) -> None:
+        self._sleep = bool(value)
+        self._changed()  # the step's buffers hold the points of islands asleep only where they may sleep
+
     # ------------------------------------------------------------------ building
     def add_force(self, acceleration) -> None:
         """Add a constant acceleration felt by every dynamic body (gravity, wind), times its gravity
         scale."""
         self._gravity = self._gravity + np.asarray(acceleration, dtype=np.float64)
         self._inputs = None
+        self.wake()  # a change of the forces reaches every body
 
     def add_attractor(self, position, mass: float, range: float | None = None,
                       min_distance: float = defaults.MIN_DISTANCE) -> None:
@@ -136,6 +152,7 @@ class World(BodyControl, WorldQueries, WorldScenario):
         if not min_distance > 0:
             raise ValueError("min_distance must be > 0")
         self._inputs = None
+        self.wake()
         self._attractors.append(dict(position=np.asarray(position, dtype=np.float64), mass=float(mass),
                                      range=np.inf if range is None else float(range),
                                      min_distance=float(min_distance)))
@@ -391,6 +408,7 @@ class World(BodyControl, WorldQueries, WorldScenario):
         if self._workspace is not None:
             self._last_contacts()
             self._workspace = None
+            self.wake()  # the new buffers hold no island asleep: they start awake, warm-started as they slept
 
     # joint state, numpy arrays of J rows in joint order
     @property
@@ -466,11 +484,13 @@ class World(BodyControl, WorldQueries, WorldScenario):
 
     def _settings(self, inputs: KernelInputs) -> Settings:
         """How the world steps, made again only when a setting or the world's make-up changed."""
-        key = (self.dt, self.precision, self.restitution_threshold, self.bounds, self.contact_events)
+        key = (self.dt, self.precision, self.restitution_threshold, self.bounds, self.contact_events,
+               self.sleep_time)
         if self._settings_for is None or self._settings_for[0] is not inputs or self._settings_for[1] != key:
             bounds = np.zeros(4) if self.bounds is None else np.array([*self.bounds[0], *self.bounds[1]])
             settings = Settings(self.dt, self.precision, self.restitution_threshold, bounds,
-                                self.bounds is not None, self._records_contacts())
+                                self.bounds is not None, self._records_contacts(), self._sleep,
+                                self.sleep_time)
             self._settings_for = inputs, key, settings
         return self._settings_for[2]
 
@@ -521,7 +541,8 @@ class World(BodyControl, WorldQueries, WorldScenario):
         if self._workspace is None:
             last = self._last_contacts()
             self._workspace = new_workspace(self.body_count, self._shapes.rows, self._joints.rows,
-                                            MAX_VERTICES, last.key, last.normal_impulse, last.tangent_impulse)
+                                            MAX_VERTICES, last.key, last.normal_impulse, last.tangent_impulse,
+                                            self.sleep)
         self._fold_initial(inputs)
         if self._entry is None or self._entry[0] is not inputs:
             # zero ticks through numba's dispatcher, once per make-up of the world: it loads the kernel
@@ -556,17 +577,16 @@ class World(BodyControl, WorldQueries, WorldScenario):
         from rustycs.recording import record_frame
 
         inputs = self._kernel_inputs()
-        points, n_points = self._contact_points()
         record_frame(tuple(frames.values()), row, self.tick, inputs.bodies, inputs.joints, inputs.forces,
-                     points, n_points)
+                     self._contacts_record())
 
-    def _contact_points(self):
-        """The last tick's contact points (the step's record) and how many are in use."""
+    def _contacts_record(self):
+        """The last tick's contacts (the step's record; none before the first step)."""
         if self._workspace is None:
-            from rustycs.narrow_phase import new_contacts
+            from rustycs.narrow_phase import new_contacts, no_sleeping_points
 
-            return new_contacts(0).points, 0
-        return self._workspace.contacts.points, int(self._workspace.contacts.count[1])
+            return new_contacts(0, False, no_sleeping_points())
+        return self._workspace.contacts
 
     # ------------------------------------------------------------------ state
     def _get(self, name: str) -> np.ndarray:
@@ -638,6 +658,7 @@ class World(BodyControl, WorldQueries, WorldScenario):
     def set_velocity(self, body: Body, velocity, angular_velocity: float | None = None) -> None:
         """Set a body's velocity (e.g. to drive a kinematic body); a body of fixed rotation keeps w = 0."""
         body = self._row(body)
+        self._wake_row(body)
         self._bodies.columns["v"][body] = velocity
         if angular_velocity is not None and not self._bodies.columns["fixed_rotation"][body]:
             self._bodies.columns["w"][body] = angular_velocity
@@ -655,10 +676,9 @@ class World(BodyControl, WorldQueries, WorldScenario):
     def _last_contacts(self):
         """The last tick's contact points as named columns (`narrow_phase.ContactRows`)."""
         if self._contact_rows is None:
-            from rustycs.narrow_phase import contact_rows, new_contacts
+            from rustycs.narrow_phase import contact_rows
 
-            contacts = new_contacts(0) if self._workspace is None else self._workspace.contacts
-            self._contact_rows = contact_rows(contacts)
+            self._contact_rows = contact_rows(self._contacts_record())
         return self._contact_rows
 
     def contacts(self) -> dict:

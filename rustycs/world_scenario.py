@@ -126,8 +126,7 @@ class WorldScenario:
         scenario = inputs.scenario
         if scenario.measures.form.shape[0] == 0:
             return  # typing the records for a call of `fold` is a fifth of a five-body world's first block
-        points, n_points = self._contact_points()
-        fold(scenario.measures, inputs.bodies, inputs.forces, points, n_points, scenario.sensors,
+        fold(scenario.measures, inputs.bodies, inputs.forces, self._contacts_record(), scenario.sensors,
              self._empty_events(), 0, 0, self.dt)
 
     @staticmethod
@@ -140,6 +139,5 @@ class WorldScenario:
         """Each measure's result now: a number (NaN where there is none: an empty set, an event that did
         not happen) or a histogram's counts per bin; final values are those of the present state."""
         inputs = self._kernel_inputs()
-        points, n_points = self._contact_points()
-        finish(inputs.scenario.measures, inputs.bodies, inputs.forces, points, n_points)
+        finish(inputs.scenario.measures, inputs.bodies, inputs.forces, self._contacts_record())
         return self._measures.results(inputs.scenario.measures)
