@@ -114,7 +114,8 @@ def collide(a: tuple[Shape, tuple[float, float], float], b: tuple[Shape, tuple[f
     keys = np.array([(i << SHAPE_BITS) | j for i in rows[shapes.body == 0] for j in rows[shapes.body == 1]],
                     dtype=np.int64)
     contacts = new_contacts(max(len(keys), 1), False, no_sleeping_points())
-    n_man, _ = narrow_phase(keys, len(keys), bodies, shapes, geometry, margin, world.dt, contacts)  # at rest
+    n_man, _ = narrow_phase(keys, len(keys), bodies, shapes, geometry, margin, world.dt, False,
+                            contacts)  # at rest
     m, p = contacts.manifolds, contacts.points
     found = []
     for k in range(n_man):

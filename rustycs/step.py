@@ -66,7 +66,7 @@ from rustycs.motion import (
 )
 from rustycs.narrow_phase import Contacts, narrow_phase, new_contacts, no_sleeping_points
 from rustycs.recording import record_frame
-from rustycs.scenario import after_tick, events_bound
+from rustycs.scenario import after_tick, events_bound, has_scenario
 from rustycs.sleep import Islands, fall_asleep, new_islands, wake_reached, warm_from_sleep
 from rustycs.tick_kernel import tick_kernel
 
@@ -213,14 +213,15 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
     joint_soft = softness(JOINT_STIFFNESS / h, JOINT_DAMPING_RATIO, h)
     (geometry, pairs, contacts, cache, body, batches, lanes, decay, bounce_velocity, held_back, joint_work,
      events, statics_placed, touching, islands) = ws
-    damping_factors(bodies, dt, decay)
+    damped = damping_factors(bodies, dt, decay)
     prepare_block(joints, h, joint_work)
     breaking = breakable(joints)
+    scripted = has_scenario(scenario)  # a call of `after_tick` with its records was a seventh of S1's tick
+    bad = first_non_finite(bodies)
+    if bad >= 0:  # set from outside between blocks: report it before it spreads
+        status[BAD_BODY] = bad
+        return
     while status[TICKS_DONE] < n_ticks:
-        bad = first_non_finite(bodies)
-        if bad >= 0:  # set from outside between blocks: report it before it spreads
-            status[BAD_BODY] = bad
-            return
         update_geometry(bodies, shapes, SPECULATIVE_DISTANCE, dt, not statics_placed[0], geometry)
         statics_placed[0] = True
         if not pairs_hold(bodies, shapes, geometry, pairs):
@@ -240,7 +241,7 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
             wake_reached(pairs.keys, n_pairs, bodies, shapes, geometry, joints, contacts,
                          SPECULATIVE_DISTANCE, islands)
         n_man, n_pts = narrow_phase(pairs.keys, n_pairs, bodies, shapes, geometry, SPECULATIVE_DISTANCE, dt,
-                                    contacts)
+                                    settings.sleep, contacts)
         room = events.count[0] + events_bound(scenario.sensors.body.shape[0], bodies.x.shape[0],
                                               joints.kind.shape[0], n_man, touching.count[0])
         if room > events.tick.shape[0]:
@@ -252,7 +253,8 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
         if contacts.asleep.count[0] > 0:
             warm_from_sleep(contacts.points, n_pts, bodies, contacts.asleep)
         load_bodies(bodies, body)
-        damp(body, bodies, decay)
+        if damped:
+            damp(body, bodies, decay)
         prepare_joints(bodies, joints, tick, joint_work)
         n_chunks = schedule(contacts.manifolds, n_man, body, batches)
         if n_chunks * LANES * LANE_FIELDS > lanes.shape[0]:
@@ -292,8 +294,9 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
             return
         if settings.has_bounds:
             status[ESCAPED] += apply_bounds(bodies, settings.bounds, tick, events)
-        status[STOPPED] = after_tick(scenario, bodies, shapes, forces, contacts, events, first_event, tick,
-                                     dt)
+        if scripted:
+            status[STOPPED] = after_tick(scenario, bodies, shapes, forces, contacts, events, first_event,
+                                         tick, dt)
         status[TICKS_DONE] = done
         stopped = status[STOPPED] >= 0
         if stopped and not reacted:
