@@ -36,6 +36,41 @@ class Pairs(NamedTuple):
     grid: np.ndarray  # int64 scratch of grid_scratch_size(S)
     extents: np.ndarray  # (S,) scratch
     cells: np.ndarray  # int64 scratch: the grid's cell entries
+    inert: np.ndarray  # bool (1,): no two shapes may ever touch (`never_collide`): no pairs, ever
+
+
+@njit(cache=True)
+def never_collide(shapes):
+    """Whether the collision filters keep every two shapes apart: all but the sensors share one non-zero
+    group (a cloud of bodies that only feel forces, like bench S6's orbits, whose broad phase found no
+    pair in 9.7 of its 18 us a tick)."""
+    group = 0
+    for j in range(shapes.group.shape[0]):
+        if shapes.sensor[j]:
+            continue
+        if shapes.group[j] == 0 or (group != 0 and shapes.group[j] != group):
+            return False
+        group = shapes.group[j]
+    return True
+
+
+@njit(cache=True)
+def new_pairs(shapes, capacity):
+    """Room for `capacity` pairs of the shapes, none found yet."""
+    n = shapes.body.shape[0]
+    inert = np.full(1, never_collide(shapes), np.bool_)
+    count = np.full(1, 0 if inert[0] else -1, np.int64)
+    return Pairs(np.empty(capacity, np.int64), count, np.full((n, 4), np.nan), np.zeros(n, np.bool_),
+                 np.empty(grid_scratch_size(n), np.int64), np.empty(n), np.empty(capacity, np.int64), inert)
+
+
+@njit(cache=True)
+def grown_pairs(pairs, capacity, cells):
+    """The pairs with room for `capacity` keys and `cells` grid entries (to be found again)."""
+    keys = np.empty(max(2 * capacity, pairs.keys.shape[0]), np.int64)
+    entries = np.empty(max(2 * cells, pairs.cells.shape[0]), np.int64)
+    return Pairs(keys, pairs.count, pairs.fat_hitbox, pairs.fat_active, pairs.grid, pairs.extents, entries,
+                 pairs.inert)
 
 
 @njit(cache=True, inline="always")
@@ -57,6 +92,8 @@ def pairs_hold(bodies, shapes, geometry, pairs):
     hitbox does not)."""
     hitbox, fat, fat_active = geometry.hitbox, pairs.fat_hitbox, pairs.fat_active
     active, first, count, asleep = bodies.active, bodies.first_shape, bodies.shape_count, bodies.asleep
+    if pairs.inert[0]:
+        return True
     if pairs.count[0] < 0:
         return False
     for i in range(active.shape[0]):

@@ -15,7 +15,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from rustycs.broad_phase import Pairs, fatten, find_pairs, grid_scratch_size, pairs_hold
+from rustycs.broad_phase import Pairs, fatten, find_pairs, grown_pairs, new_pairs, pairs_hold
 from rustycs.constants import (
     CONTACT_DAMPING_RATIO,
     CONTACT_HERTZ,
@@ -105,14 +105,12 @@ class Workspace(NamedTuple):
 
 
 @njit(cache=True)
-def new_workspace(n_bodies, n_shapes, n_joints, max_vertices, c_key, c_jn, c_jt, sleeps):
+def new_workspace(n_bodies, shapes, n_joints, max_vertices, c_key, c_jn, c_jt, sleeps):
     """Buffers for stepping, with a warm-start cache (keys and impulses) carried over; with `sleeps`, room
     for the points of islands asleep."""
+    n_shapes = shapes.body.shape[0]
     capacity = max(4 * n_shapes + 16, c_key.shape[0])
-    pairs = Pairs(np.empty(capacity, np.int64), np.full(1, -1, np.int64), np.full((n_shapes, 4), np.nan),
-                  np.zeros(n_shapes, np.bool_), np.empty(grid_scratch_size(n_shapes), np.int64),
-                  np.empty(n_shapes), np.empty(capacity, np.int64))
-    return Workspace(new_geometry(n_bodies, n_shapes, max_vertices), pairs,
+    return Workspace(new_geometry(n_bodies, n_shapes, max_vertices), new_pairs(shapes, capacity),
                      new_contacts(capacity, sleeps, no_sleeping_points()),
                      new_cache(2 * capacity, c_key, c_jn, c_jt), np.empty((n_bodies, BODY_COLUMNS)),
                      new_batches(n_bodies, capacity), np.empty(capacity * LANE_FIELDS),
@@ -129,8 +127,7 @@ def grown(ws, n_bodies, cells, pairs, points, chunks, events):
     so far, the pairs touching and the points asleep are)."""
     p = ws.pairs
     if cells > p.cells.shape[0] or pairs > p.keys.shape[0]:
-        p = Pairs(np.empty(max(2 * pairs, p.keys.shape[0]), np.int64), p.count, p.fat_hitbox, p.fat_active,
-                  p.grid, p.extents, np.empty(max(2 * cells, p.cells.shape[0]), np.int64))
+        p = grown_pairs(p, pairs, cells)
     contacts, batches, touching = ws.contacts, ws.batches, ws.touching
     if pairs > contacts.manifolds.first.shape[0]:
         contacts = new_contacts(2 * pairs, contacts.asleep.key.shape[0] > 0, contacts.asleep)

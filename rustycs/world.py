@@ -540,7 +540,7 @@ class World(BodyControl, WorldQueries, WorldScenario):
         inputs = self._kernel_inputs()
         if self._workspace is None:
             last = self._last_contacts()
-            self._workspace = new_workspace(self.body_count, self._shapes.rows, self._joints.rows,
+            self._workspace = new_workspace(self.body_count, inputs.shapes, self._joints.rows,
                                             MAX_VERTICES, last.key, last.normal_impulse, last.tangent_impulse,
                                             self.sleep)
         self._fold_initial(inputs)

@@ -54,3 +54,25 @@ def test_pairs_are_kept_while_a_stack_rests_and_found_again_when_a_body_moves():
     world.step(28)  # it hits the bottom box (and bounces back)
     assert not np.array_equal(debug.fat_hitboxes(world)[ball], fat[ball])
     assert (1, ball) in stored_pairs(world)
+
+
+def test_a_world_whose_filters_keep_every_shape_apart_has_no_broad_phase_and_one_outsider_collides():
+    """Bench S6: 200 bodies that share one collision group only feel the attractor; the broad phase was
+    half of their tick, finding no pair. Such a world finds none at all; one body outside the group gets
+    its pairs and collides."""
+    def crossing(outsider_group: int) -> World:
+        world = World(tick_rate=60.0, precision=4)
+        world.add_body(Circle(0.5), position=(-2.0, 0.0), velocity=(2.0, 0.0), collision_group=1)
+        world.add_body(Circle(0.5), position=(2.0, 0.0), velocity=(-2.0, 0.0), collision_group=outsider_group)
+        world.add_body(Box(10.0, 1.0), position=(0.0, -3.0), body_type="static", collision_group=1)
+        return world
+
+    apart = crossing(1)
+    apart.step(60)
+    assert len(debug.pairs(apart)) == 0
+    np.testing.assert_allclose(apart.centers[:2, 0], [0.0, 0.0], atol=1e-12)  # passed through each other
+    meeting = crossing(0)
+    meeting.step(45)  # they meet at 0.75 s
+    assert len(debug.pairs(meeting)) == 1
+    meeting.step(15)
+    assert meeting.centers[0, 0] < -0.5 < 0.5 < meeting.centers[1, 0]  # they met and bounced back
