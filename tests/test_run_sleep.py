@@ -1,8 +1,9 @@
 """Runs with world.sleep: the asleep flags in the trajectory (written in blocks and frame by frame), the
-summary's bodies_asleep, the reader, and files from before the flags."""
+summary's bodies_asleep, the reader, files from before the flags, sweeps, and the demo scene."""
 
 from __future__ import annotations
 
+import csv
 import json
 import shutil
 from pathlib import Path
@@ -15,6 +16,7 @@ from conftest import FIVE_BODIES, NAP, NAP_SLEEPS, NAP_WAKES
 import rustycs
 
 ASLEEP = "particles/bodies/asleep"
+SLEEPING_PILE = Path(__file__).resolve().parent.parent / "scenes" / "sleeping_pile.yaml"
 
 
 @pytest.fixture(scope="module")
@@ -127,3 +129,38 @@ def test_sleeping_changes_nothing_where_nothing_falls_asleep(run_scene, cli) -> 
     with h5py.File(awake, "r") as a, h5py.File(resting, "r") as b:
         for name in ("point", "normal", "depth", "normal_impulse"):
             np.testing.assert_array_equal(a[f"contacts/{name}"][()], b[f"contacts/{name}"][()])
+
+
+def test_a_sweep_over_sleeping(cli, tmp_path: Path, compiled_engine: None) -> None:
+    out = tmp_path / "sweep"
+    result = cli("sweep", SLEEPING_PILE, "-p", "world.sleep=false,true", "-s", "world.duration=2",
+                 "--out", out, "--workers", "1", "--local", "threads")
+    assert result.exit_code == 0, result.stderr
+    with open(out / "sweep.csv", newline="") as handle:
+        rows = {row["world.sleep"]: row for row in csv.DictReader(handle)}
+    assert rows["false"]["bodies_asleep"] == "0"
+    assert rows["true"]["bodies_asleep"] == "21"  # the pyramid's crates; the ball comes at 3 s
+
+
+def test_the_sleeping_pile_sleeps_wakes_when_the_ball_hits_and_sleeps_again(cli, tmp_path: Path,
+                                                                            compiled_engine: None) -> None:
+    out = tmp_path / "pile.h5"
+    result = cli("run", SLEEPING_PILE, "--out", out, "--json", "--quiet")
+    assert result.exit_code == 0, result.stderr
+    summary = json.loads(result.stdout)
+    with rustycs.open_trajectory(out) as run:
+        asleep, steps, types = run.asleep, run.steps, run.body_types
+        ball = run.body_index("ball-0")
+    with h5py.File(out, "r") as file:
+        thrown = int(file["particles/bodies/spawn_tick"][ball])
+    crates = (types == "dynamic") & (np.arange(len(types)) != ball)
+    assert crates.sum() == 21 and summary["emitters"]["ball"]["appeared"] == 1 and thrown == 180
+    asleep_crates = asleep[:, crates].sum(axis=1)
+    before = steps < thrown
+    # at rest from the start, the pyramid falls asleep after sleep_time (0.5 s) and sleeps until the ball
+    assert asleep_crates[steps == 31] == 21 and (asleep_crates[before & (steps >= 31)] == 21).all()
+    # the ball wakes every crate it reaches through the pile (all of them: they touch), then they sleep again
+    woken = np.flatnonzero(~before & (asleep_crates == 0))
+    assert len(woken) and woken[0] < np.flatnonzero(steps == thrown + 60)[0]
+    assert summary["bodies_asleep"] == asleep[-1, types == "dynamic"].sum() >= 20
+    assert summary["bodies_asleep"] > asleep_crates[woken[0]]
