@@ -44,6 +44,8 @@ def build_world(scene: Scene, plan: RunPlan | None = None) -> rustycs.World:
         gravitational_constant=scene.world.gravitational_constant,
         bounds=None if scene.world.bounds is None else (scene.world.bounds.min, scene.world.bounds.max),
         restitution_threshold=scene.world.restitution_threshold,
+        sleep=scene.world.sleep,
+        sleep_time=scene.world.sleep_time,
     )
     for force in scene.forces:
         world.add_force(force.acceleration)

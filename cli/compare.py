@@ -21,14 +21,18 @@ from .errors import UserError
 if TYPE_CHECKING:
     import h5py
 
+    Series = h5py.Dataset | np.ndarray  # a dataset, or the all-false flags a file from before them lacks
+
 BODIES = "particles/bodies"
-# name -> (dataset path, whether it is an angle whose difference is wrapped to +-pi)
-STATE: dict[str, tuple[str, bool]] = {
-    "position": (f"{BODIES}/position/value", False),
-    "angle": (f"{BODIES}/angle/value", True),
-    "velocity": (f"{BODIES}/velocity/value", False),
-    "angular_velocity": (f"{BODIES}/angular_velocity/value", False),
-    "active": (f"{BODIES}/active/value", False),
+# the per-body series compared (trajectory.FRAME_SERIES) -> whether it is an angle whose difference is
+# wrapped to +-pi
+STATE: dict[str, bool] = {
+    "position": False,
+    "angle": True,
+    "velocity": False,
+    "angular_velocity": False,
+    "active": False,
+    "asleep": False,
 }
 WORST_BODIES = 5
 BLOCK_VALUES = 1 << 21  # values per dataset per block: 16 MB of float64
@@ -204,7 +208,7 @@ class SharedFrames:
     b: np.ndarray
 
     @staticmethod
-    def rows(dataset: h5py.Dataset, rows: np.ndarray, start: int, stop: int) -> np.ndarray:
+    def rows(dataset: Series, rows: np.ndarray, start: int, stop: int) -> np.ndarray:
         """The shared frames start..stop of one file: the span read whole, then the rows taken."""
         part = rows[start:stop]
         if len(part) == 0:
@@ -251,10 +255,13 @@ def _span(steps: np.ndarray) -> str:
     return f"{int(steps[0])}..{int(steps[-1])} every {int(steps[1] - steps[0])}"
 
 
-def _datasets(fa: h5py.File, fb: h5py.File) -> Iterator[tuple[str, tuple[h5py.Dataset, h5py.Dataset, bool]]]:
-    """The datasets compared: body state first, then every observable present in both files."""
-    for name, (path, wrap) in STATE.items():
-        yield name, (fa[path], fb[path], wrap)
+def _datasets(fa: h5py.File, fb: h5py.File) -> Iterator[tuple[str, tuple[Series, Series, bool]]]:
+    """The datasets compared: body state first (a file from before the asleep flags slept nowhere), then
+    every observable present in both files."""
+    from .trajectory import read_series
+
+    for name, wrap in STATE.items():
+        yield name, (read_series(fa, name), read_series(fb, name), wrap)
     shared = sorted(set(fa.get("observables", {})) & set(fb.get("observables", {})))
     for name in shared:
         da, db = fa[f"observables/{name}/value"], fb[f"observables/{name}/value"]
@@ -265,7 +272,7 @@ def _datasets(fa: h5py.File, fb: h5py.File) -> Iterator[tuple[str, tuple[h5py.Da
         yield name, (da, db, False)
 
 
-def _block_frames(datasets: dict[str, tuple[h5py.Dataset, h5py.Dataset, bool]], frames: int) -> int:
+def _block_frames(datasets: dict[str, tuple[Series, Series, bool]], frames: int) -> int:
     """Frames per block: bounded memory, and a whole number of chunks when the file is chunked."""
     values_per_frame = max(int(np.prod(da.shape[1:])) for da, _, _ in datasets.values())
     block = max(1, BLOCK_VALUES // max(1, values_per_frame))

@@ -47,6 +47,7 @@ MAX_DAMPING = Limit("MAX_DAMPING", 1e6, "1/s")
 MIN_TICK_RATE = Limit("MIN_TICK_RATE", 1e-3, "Hz")
 MAX_TICK_RATE = Limit("MAX_TICK_RATE", 1e6, "Hz")
 MAX_TICKS = Limit("MAX_TICKS", 10**9)  # ticks of one run, and the recording interval `every`
+MAX_SLEEP_TIME = Limit("MAX_SLEEP_TIME", 1e9, "s")  # world.sleep_time (> 0): about 30 years
 PRECISION = Limit("MAX_PRECISION", MAX_PRECISION)  # solver substeps per tick
 MAX_SEED = Limit("MAX_SEED", 2**63 - 1)  # stored as a signed 64-bit HDF5 attribute
 MAX_GROUP = Limit("MAX_GROUP", 2**31 - 1)  # collision_group, stored as int32

@@ -16,7 +16,15 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .errors import UserError
-from .trajectory import CHUNK_FRAMES, FRAME_SERIES, JOINT_SERIES, OBSERVABLES, read_attrs, read_strings
+from .trajectory import (
+    CHUNK_FRAMES,
+    FRAME_SERIES,
+    JOINT_SERIES,
+    OBSERVABLES,
+    read_attrs,
+    read_series,
+    read_strings,
+)
 
 if TYPE_CHECKING:
     import pandas
@@ -100,7 +108,7 @@ class Trajectory:
         return self._file[f"{BODIES}/position/time"][()]
 
     def _series(self, name: str, frames: slice = slice(None)) -> np.ndarray:
-        return self._file[f"{BODIES}/{name}/value"][frames]
+        return np.ascontiguousarray(read_series(self._file, name)[frames])  # a writable array, always
 
     @property
     def positions(self) -> np.ndarray:
@@ -127,9 +135,14 @@ class Trajectory:
         """(T, N) bool: false once a body left the world (escaped or removed) or before it appeared."""
         return self._series("active")
 
+    @property
+    def asleep(self) -> np.ndarray:
+        """(T, N) bool: the body sleeps in that frame (world.sleep; all false in files from before it)."""
+        return self._series("asleep")
+
     def frames(self, start: int = 0, stop: int | None = None) -> dict[str, np.ndarray]:
         """Frames start..stop of every per-body series (position, velocity, angle, angular_velocity,
-        active) and their step and time."""
+        active, asleep) and their step and time."""
         rows = slice(start, stop)
         block = {name: self._series(name, rows) for name in FRAME_SERIES}
         return {"step": self.steps[rows], "time": self.times[rows], **block}
@@ -215,14 +228,15 @@ class Trajectory:
 
     def to_xarray(self) -> xarray.Dataset:
         """A Dataset over dims (time, body), coordinates time (s), tick and body (names): x, y, angle, vx,
-        vy, w, active per body and frame, and the observables per frame."""
+        vy, w, active, asleep per body and frame, and the observables per frame."""
         xarray = _optional("xarray")
         series = {name: self._series(name) for name in FRAME_SERIES}
         variables = {}
         for column, name, component in TABLE_COLUMNS:
             values = series[name] if component is None else series[name][..., component]
             variables[column] = (("time", "body"), values)
-        variables["active"] = (("time", "body"), series["active"])
+        for flag in ("active", "asleep"):
+            variables[flag] = (("time", "body"), series[flag])
         for name, values in self.observables.items():
             if values.ndim == 2:
                 variables[f"{name}_x"] = ("time", values[:, 0])

@@ -67,6 +67,7 @@ from .scene_types import (
     Restitution,
     SceneName,
     Seed,
+    SleepTime,
     SmallInt,
     Speed,
     Text,
@@ -700,6 +701,19 @@ class World(_Model):
         description="Contacts approaching slower than this, m/s, do not bounce (addition).",
         examples=[1.0],
     )
+    sleep: bool = Field(
+        defaults.SLEEP,
+        description="true: dynamic bodies that rest together (touching or jointed) for sleep_time s fall "
+        "asleep: they keep their place and skip the solver until an awake or moving body touches one of "
+        "them or a joint ties one to it. Where nothing falls asleep, results are those of sleep: false.",
+        examples=[True],
+    )
+    sleep_time: SleepTime = Field(
+        defaults.SLEEP_TIME,
+        gt=0,
+        description="Seconds a group of touching bodies must rest before it sleeps (with sleep: true). > 0.",
+        examples=[0.5],
+    )
     duration: float | None = DURATION_FIELD
     stop_when: list[StopCondition] = STOP_WHEN_FIELD
 
@@ -712,7 +726,7 @@ class World(_Model):
     def _one_run_length(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
         data = handler(self)
         data.pop("ticks" if self.duration is not None else "duration", None)
-        return _without_unused(data, stop_when=[])
+        return _without_unused(data, stop_when=[], sleep=defaults.SLEEP, sleep_time=defaults.SLEEP_TIME)
 
 
 class Output(_Model):

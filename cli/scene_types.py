@@ -103,6 +103,7 @@ Friction = Annotated[FiniteFloat, Within(0.0, limits.MAX_FRICTION)]
 Damping = Annotated[FiniteFloat, Within(0.0, limits.MAX_DAMPING)]
 Factor = Annotated[FiniteFloat, Within(high=limits.MAX_FACTOR, symmetric=True)]
 Rate = Annotated[FiniteFloat, Gt(0), Within(limits.MIN_TICK_RATE, limits.MAX_TICK_RATE)]
+SleepTime = Annotated[FiniteFloat, Gt(0), Within(high=limits.MAX_SLEEP_TIME)]
 
 Ticks = Annotated[StrictInt, Within(0, limits.MAX_TICKS)]
 Every = Annotated[StrictInt, Within(1, limits.MAX_TICKS)]

@@ -65,6 +65,7 @@ DESCRIPTIONS = {  # key: meaning, in output order (documents every statistic)
     "max_speed": "highest speed of an active dynamic body, m/s",
     "escaped_bodies": "dynamic bodies that left the world bounds",
     "bodies_at_rest": "active dynamic bodies at rest at the end",
+    "bodies_asleep": "dynamic bodies asleep at the end (world.sleep; 0 without it)",
     "broken_joints": "joints broken by the end (break_force, break_torque)",
     "divergence": "where a non-finite value appeared (diverged runs)",
     "stop_reason": "the world.stop_when condition that ended the run (stopped runs), as written",
@@ -168,6 +169,7 @@ class SummaryTracker:
             "max_speed": self.max_speed,
             "escaped_bodies": escaped,
             "bodies_at_rest": int(at_rest.sum()),
+            "bodies_asleep": int((self.dynamic & last.asleep).sum()),
             "broken_joints": 0 if last.joints is None else int((~last.joints["active"]).sum()),
             "divergence": divergence,
         }

@@ -12,6 +12,8 @@ analysis:
     /world/attractors/position        float64 [A, 2]
     /world/attractors/mass, range, min_distance  float64 [A]  (range inf for a global attractor)
     /world/bounds                     float64 [2, 2]    [[xmin, ymin], [xmax, ymax]], only when set
+    /particles/bodies/asleep/value    bool [T, N]       the body sleeps in that frame (world.sleep), with
+                                                        step and time linked like active's
     /observables/*/step, time         hard links to /particles/bodies/position/step and time
     /parameters                       extra attrs: ticks_requested, every, contacts, gravitational_constant,
                                       frames, and `divergence` (the engine's message) when diverged
@@ -127,7 +129,9 @@ FRAME_SERIES = {  # name: (per-body row shape, dtype, unit); value [T, N, *shape
     "angle": ((), "f8", "rad"),
     "angular_velocity": ((), "f8", "rad s-1"),
     "active": ((), "bool", None),
+    "asleep": ((), "bool", None),
 }
+ADDED_SERIES = ("asleep",)  # absent from files written before they existed: read as all false (`read_series`)
 OBSERVABLES = {  # name: (shape, dtype, unit); value [T, *shape]
     "kinetic_energy": ((), "f8", "J"),
     "potential_energy": ((), "f8", "J"),
@@ -162,6 +166,7 @@ class Frame:
     angle: np.ndarray
     angular_velocity: np.ndarray
     active: np.ndarray
+    asleep: np.ndarray
     observables: dict[str, Any]
     contacts: dict[str, np.ndarray] | None
     joints: dict[str, np.ndarray] | None = None  # JOINT_SERIES by name, per joint
@@ -184,6 +189,7 @@ class Frame:
             angle=frames["angle"][row].copy(),
             angular_velocity=frames["angular_velocity"][row].copy(),
             active=frames["active"][row].copy(),
+            asleep=frames["asleep"][row].copy(),
             # copies: the buffer's rows are overwritten by the next block (the momentum is a view)
             observables={name: frames[name][row].copy() for name in (*OBSERVABLES, "max_speed")},
             contacts=contacts,
@@ -504,6 +510,17 @@ def package_version() -> str:
         return version("rustycs")
     except PackageNotFoundError:
         return "unknown"
+
+
+def read_series(file: h5py.File, name: str) -> h5py.Dataset | np.ndarray:
+    """The values [T, N, ...] of the per-body series `name` (FRAME_SERIES), to slice like a dataset; a series
+    of ADDED_SERIES that a file written before it existed lacks reads as all false (nothing slept)."""
+    import numpy as np
+
+    path = f"particles/bodies/{name}/value"
+    if path in file or name not in ADDED_SERIES:
+        return file[path]
+    return np.broadcast_to(np.zeros((), bool), file[POSITION].shape[:2])
 
 
 def read_strings(dataset: h5py.Dataset) -> list[str]:

@@ -68,6 +68,20 @@ bodies:
      shape: {type: aabb, width: 1, height: 0.5, sensor: true}}
   - {name: ball, shape: {type: circle, radius: 0.1}, position: [0, 2]}
 """
+# Sleeping (world.sleep): the crate rests on the floor and falls asleep at tick 31; the ball dropped on it
+# lands at tick 62 and wakes it.
+NAP = """\
+name: nap
+world: {tick_rate: 60, ticks: 90, precision: 4, sleep: true}
+forces:
+  - {name: gravity, acceleration: [0, -9.81]}
+bodies:
+  - {name: floor, type: static, shape: {type: aabb, width: 6, height: 0.5}, position: [0, -0.25],
+     material: stone}
+  - {name: crate, shape: {type: obb, width: 0.6, height: 0.6}, position: [-1, 0.3], material: plastic}
+  - {name: ball, shape: {type: circle, radius: 0.2}, position: [-1, 6], material: rubber}
+"""
+NAP_SLEEPS, NAP_WAKES = 31, 62  # ticks
 
 
 @pytest.fixture(scope="session")

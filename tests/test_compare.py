@@ -68,7 +68,8 @@ def test_repeated_run_is_identical(runs):
     assert result.identical and result.verdict == "identical" and result.exit_code == 0
     assert result.frames == 61 and result.body_names == ["floor", "ball", "crate"]
     assert {q.name for q in result.quantities} >= {
-        "position", "angle", "velocity", "angular_velocity", "active", "kinetic_energy", "linear_momentum"}
+        "position", "angle", "velocity", "angular_velocity", "active", "asleep", "kinetic_energy",
+        "linear_momentum"}
 
 
 @pytest.mark.parametrize("block", [None, 7])  # 7: the difference is found in a later block

@@ -434,8 +434,9 @@ def test_the_frames_of_a_killed_run_are_recovered(cli, tmp_path: Path) -> None:
         assert process.poll() is None, process.stderr.read()
         first = temporary.stat().st_mtime
         _wait_for(lambda: temporary.stat().st_mtime > first + RECOVERY_SECONDS)  # flushed once more at least
-        time.sleep(1.0)  # the first write after RECOVERY_SECONDS starts that flush: let it end (a kill between
-        # the two, on a loaded machine, left a file whose superblock had never been written)
+        # the first write after RECOVERY_SECONDS starts that flush: let it end (a kill between the two, on a
+        # loaded machine, left a file whose superblock had never been written)
+        time.sleep(1.0)
     finally:
         process.send_signal(signal.SIGKILL)
         process.wait(timeout=30)

@@ -70,7 +70,7 @@ def test_the_reader_gives_what_h5py_reads(run):
         bodies = file["particles/bodies"]
         for ours, path in [(trajectory.positions, "position"), (trajectory.velocities, "velocity"),
                            (trajectory.angles, "angle"), (trajectory.angular_velocities, "angular_velocity"),
-                           (trajectory.active, "active")]:
+                           (trajectory.active, "active"), (trajectory.asleep, "asleep")]:
             theirs = bodies[path]["value"][()]
             assert ours.dtype == theirs.dtype and ours.tobytes() == theirs.tobytes()  # bitwise
         assert trajectory.steps.tolist() == list(range(31))

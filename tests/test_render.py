@@ -10,7 +10,14 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from rustycs_cli.render.colors import BACKGROUND, HITBOX, MATERIAL_COLORS, VELOCITY, material_color
+from rustycs_cli.render.colors import (
+    BACKGROUND,
+    HITBOX,
+    MATERIAL_COLORS,
+    VELOCITY,
+    asleep_color,
+    material_color,
+)
 from rustycs_cli.render.frames import iter_frames
 
 SCENE = """\
@@ -184,6 +191,31 @@ def test_frames_read_in_blocks_match_the_file(trajectory: Path):
             np.testing.assert_array_equal(frame.contacts.point, f["contacts/point"][rows])
             np.testing.assert_array_equal(frame.contacts.normal, f["contacts/normal"][rows])
         assert sum(len(frame.contacts.depth) for frame in frames) > 0
+
+
+def test_bodies_asleep_are_drawn_paler(cli, run_scene, tmp_path: Path):
+    """NAP's plastic crate at (-1, 0.3) sleeps from tick NAP_SLEEPS until the rubber ball lands on it."""
+    from conftest import NAP, NAP_SLEEPS, NAP_WAKES
+
+    nap = run_scene(NAP)
+
+    def crate_and_ball(tick: int) -> tuple[tuple[int, int, int], tuple[int, int, int]]:
+        out = tmp_path / f"tick-{tick}.png"
+        result = cli("render", nap, "-o", out, "--tick", str(tick), "--view", VIEW, "--size", "800x600")
+        assert result.exit_code == 0, result.stderr
+        image = Image.open(out).convert("RGB")
+        ball = body_position(nap, "ball", tick)
+        return image.getpixel(pixel(-1.15, 0.3)), image.getpixel(pixel(ball[0] - 0.1, ball[1]))
+
+    plastic, pale = MATERIAL_COLORS["plastic"], asleep_color(MATERIAL_COLORS["plastic"])
+    assert pale == (128, 242, 152)  # halfway to the white background
+    assert crate_and_ball(NAP_SLEEPS - 1) == (plastic, RUBBER)
+    assert crate_and_ball(NAP_SLEEPS) == (pale, RUBBER)  # the ball, awake, keeps its colour
+    assert crate_and_ball(NAP_WAKES - 1)[0] == pale
+    assert crate_and_ball(NAP_WAKES)[0] == plastic
+    with h5py.File(nap, "r") as file:
+        frame = next(iter_frames(file, range(NAP_SLEEPS, NAP_SLEEPS + 1), with_contacts=False))
+    assert frame.asleep.tolist() == [False, True, False]
 
 
 def test_material_colours_are_the_thesis_palette_or_a_stable_hash():

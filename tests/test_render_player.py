@@ -263,3 +263,34 @@ def test_player_lights_a_sensor_while_a_body_is_inside_and_marks_the_scrub_bar(c
     page.mouse.move(x, y)
     assert page.get_attribute("#scrub", "title") == f"tick {enter}: 1 sensor_enter"
     assert problems == []
+
+
+def test_player_carries_the_asleep_flags_and_fills_sleeping_bodies_paler(cli, browser, run_scene,
+                                                                        tmp_path: Path):
+    from conftest import NAP, NAP_SLEEPS, NAP_WAKES  # the plastic crate at (-1, 0.3) sleeps, then wakes
+
+    from rustycs_cli.render.colors import asleep_color, hex_color
+
+    out = tmp_path / "nap.html"
+    assert cli("render", run_scene(NAP), "-o", out).exit_code == 0
+    header, blobs = embedded(out.read_text())
+    asleep = np.frombuffer(blobs["asleep"], np.uint8).reshape(91, 3)
+    assert list(np.flatnonzero(asleep[:, 1])) == list(range(NAP_SLEEPS, NAP_WAKES))
+    assert not asleep[:, [0, 2]].any()
+    plastic = MATERIAL_COLORS["plastic"]
+    assert header["shapes"]["asleepColors"][1] == hex_color(asleep_color(plastic))
+    page, problems, _ = open_player(browser, out)
+
+    def crate_at(frame: int) -> tuple[int, int, int]:
+        page.evaluate(f"window.player.setFrame({frame}); window.player.draw()")
+        return canvas_rgb(page, -1.15, 0.3)
+
+    assert crate_at(NAP_SLEEPS - 1) == plastic
+    assert crate_at(NAP_SLEEPS) == asleep_color(plastic)
+    assert [page.evaluate(f"window.player.asleep({body})") for body in range(3)] == [False, True, False]
+    assert crate_at(NAP_WAKES) == plastic
+    page.evaluate(f"window.player.setFrame({NAP_SLEEPS + 5}); window.player.draw()")
+    page.mouse.move(*page.evaluate("window.player.worldToScreen(-1.0, 0.3)"))
+    page.wait_for_function("window.player.state.hover === 1", timeout=5_000)
+    assert page.inner_text("#tooltip").rstrip().endswith("asleep")
+    assert problems == []

@@ -26,7 +26,7 @@ TYPES = ["static", "dynamic", "dynamic", "dynamic", "kinematic"]
 
 def frame(tick: int, velocity, angular_velocity, active, kinetic: float, potential: float, contacts: int,
           penetration: float, momentum=(0.0, 0.0), angular_momentum: float = 0.0,
-          speed: float = 0.0) -> Frame:
+          speed: float = 0.0, asleep=(0, 0, 0, 0, 0)) -> Frame:
     return Frame(
         tick=tick,
         position=np.zeros((5, 2)),
@@ -34,6 +34,7 @@ def frame(tick: int, velocity, angular_velocity, active, kinetic: float, potenti
         angle=np.zeros(5),
         angular_velocity=np.array(angular_velocity, float),
         active=np.array(active, bool),
+        asleep=np.array(asleep, bool),
         observables={"kinetic_energy": kinetic, "potential_energy": potential,
                      "linear_momentum": np.array(momentum), "angular_momentum": angular_momentum,
                      "contact_count": contacts, "max_penetration": penetration, "max_speed": speed},
@@ -73,8 +74,17 @@ def test_statistics():
     assert summary["max_speed"] == pytest.approx(5.0)
     assert summary["escaped_bodies"] == 1  # body 3, dynamic and inactive
     assert summary["bodies_at_rest"] == 1  # body 1 (speed 5e-4); body 2 turns, body 3 escaped
+    assert summary["bodies_asleep"] == 0  # sleeping is off
     assert list(summary) == list(DESCRIPTIONS)
     assert summary["divergence"] is None and summary["seed"] == 7
+
+
+def test_bodies_asleep_counts_the_dynamic_bodies_asleep_in_the_last_frame():
+    still = [[0, 0]] * 5
+    summary = summarise([frame(0, still, [0] * 5, [1] * 5, 0.0, 0.0, 0, 0.0, asleep=[0, 1, 1, 1, 0]),
+                         frame(10, still, [0] * 5, [1] * 5, 0.0, 0.0, 0, 0.0, asleep=[1, 1, 0, 1, 1])])
+    assert summary["bodies_asleep"] == 2  # bodies 1 and 3; 0 and 4 are static and kinematic (never asleep)
+    assert list(summary).index("bodies_asleep") == list(summary).index("bodies_at_rest") + 1
 
 
 def _orbit(contacts: int) -> list[Frame]:

@@ -21,6 +21,7 @@ SHAPES_DEMOS = ["capsule_pile", "cup_of_balls", "curved_ramp", "l_brackets"]  # 
 JOINT_DEMOS = ["car", "chain_bridge", "crank_slider", "double_pendulum", "gear_train", "newtons_cradle",
                "pendulum", "pulley", "ragdoll"]  # written by scenes/make_joint_scenes.py
 MEASURES_DEMOS = ["cup_goal", "dominoes", "galton_board", "projectile"]  # emitters, sensors, measures
+SLEEP_DEMOS = ["sleeping_pile"]  # world.sleep
 DEMOS = sorted(
     [
         "all_platforms",
@@ -34,6 +35,7 @@ DEMOS = sorted(
         *SHAPES_DEMOS,
         *JOINT_DEMOS,
         *MEASURES_DEMOS,
+        *SLEEP_DEMOS,
     ]
 )
 BENCH = ["S1_bounce", "S2_pyramid20", "S3_pyramid40", "S4_rain1000", "S5_polypile500", "S6_orbits",

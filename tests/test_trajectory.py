@@ -142,6 +142,8 @@ def test_time_series_values_dtypes_units(written):
         active = bodies["active/value"]
         assert active.dtype == np.bool_ and active.shape == (t, n)
         np.testing.assert_array_equal(active[()], np.stack([fr.active for fr in captured]))
+        asleep = bodies["asleep/value"]  # nothing sleeps here: tests/test_run_sleep.py has runs that do
+        assert asleep.dtype == np.bool_ and asleep.shape == (t, n) and not asleep[()].any()
         # something moved: the comparison above is not between two constant arrays
         assert not np.array_equal(bodies["position/value"][0], bodies["position/value"][-1])
 
@@ -151,7 +153,7 @@ def test_step_and_time_are_hard_links(written):
     with h5py.File(path, "r") as f:
         position = f["particles/bodies/position"]
         groups = [f[f"particles/bodies/{name}"]
-                  for name in ("velocity", "angle", "angular_velocity", "active")]
+                  for name in ("velocity", "angle", "angular_velocity", "active", "asleep")]
         groups += [f[f"observables/{name}"] for name in OBSERVABLE_SHAPES]
         for group in groups:
             for key in ("step", "time"):

@@ -39,6 +39,13 @@ def material_color(material: str) -> RGB:
     return (round(red * 255), round(green * 255), round(blue * 255))
 
 
+def asleep_color(color: RGB) -> RGB:
+    """A sleeping body's colour: its own blended halfway to the background, so that a picture shows which
+    bodies the solver skips while it still tells their materials apart."""
+    red, green, blue = (round((own + back) / 2) for own, back in zip(color, BACKGROUND, strict=True))
+    return (red, green, blue)
+
+
 def hex_color(color: RGB) -> str:
     """`#rrggbb`, for the HTML player."""
     return "#{:02x}{:02x}{:02x}".format(*color)

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..trajectory import read_series
 from .bodies import BODIES
 
 if TYPE_CHECKING:
@@ -37,6 +38,7 @@ class Block:
     velocity: np.ndarray  # [F, N, 2]
     angular_velocity: np.ndarray  # [F, N]
     active: np.ndarray  # [F, N] bool
+    asleep: np.ndarray  # [F, N] bool
     contacts: Contacts | None  # all contact rows of the block's frames
     contact_offset: np.ndarray | None  # [F + 1] rows of frame f: offset[f] .. offset[f+1]-1
 
@@ -53,6 +55,7 @@ class Frame:
     velocity: np.ndarray  # [N, 2] centre-of-mass velocity
     angular_velocity: np.ndarray  # [N]
     active: np.ndarray  # [N] bool
+    asleep: np.ndarray  # [N] bool: drawn paler
     contacts: Contacts | None
 
 
@@ -76,6 +79,7 @@ def iter_blocks(
             velocity=file[f"{BODIES}/velocity/value"][selection],
             angular_velocity=file[f"{BODIES}/angular_velocity/value"][selection],
             active=np.asarray(file[f"{BODIES}/active/value"][selection], dtype=bool),
+            asleep=np.asarray(read_series(file, "asleep")[selection], dtype=bool),
             contacts=contacts,
             contact_offset=contact_offset,
         )
@@ -100,6 +104,7 @@ def iter_frames(file: h5py.File, frames: range, with_contacts: bool) -> Iterator
                 velocity=block.velocity[row],
                 angular_velocity=block.angular_velocity[row],
                 active=block.active[row],
+                asleep=block.asleep[row],
                 contacts=contacts,
             )
 

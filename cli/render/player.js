@@ -1,7 +1,8 @@
 // rustycs player: draws an embedded trajectory on a canvas. No network, no libraries.
 // window.player exposes the state (frame, playing, speed, overlay toggles, camera) for scripts and tests.
 // Sensors light up while something is inside (sensorLit, from the run's sensor events); the scrub bar
-// carries a mark per frame where events happened, coloured by kind (eventMarks, with a legend).
+// carries a mark per frame where events happened, coloured by kind (eventMarks, with a legend). Bodies
+// asleep in a frame (world.sleep) are filled paler (asleepColors: their colour halfway to the background).
 "use strict";
 (() => {
   const header = JSON.parse(document.getElementById("rustycs-header").textContent);
@@ -20,6 +21,7 @@
   const velocity = decode("velocity", Float32Array);
   const angularVelocity = decode("angularVelocity", Float32Array);
   const active = decode("active", Uint8Array);
+  const asleep = decode("asleep", Uint8Array); // [F, N]: 1 while the body sleeps
   const contactOffset = decode("contactOffset", Int32Array);
   const contactPoint = decode("contactPoint", Float32Array);
   const contactNormal = decode("contactNormal", Float32Array);
@@ -325,7 +327,7 @@
           addShape(path, f, s);
           addSpoke(path, f, s);
         } else {
-          addShape(pathFor(fills, color), f, s);
+          addShape(pathFor(fills, asleep[f * N + i] ? shapes.asleepColors[s] : color), f, s);
           addSpoke(spokes, f, s);
           if (bodies.types[i] === "kinematic") addShape(kinematic, f, s);
         }
@@ -465,7 +467,7 @@
     tooltip.textContent = `${bodies.names[i]}  (${bodies.types[i]} ${bodies.shapes[i]}, ${bodies.materials[i]})\n`
       + `position          ${num(position[2 * base])}, ${num(position[2 * base + 1])} m\n`
       + `velocity          ${num(vx)}, ${num(vy)} m/s  (|v| ${num(Math.hypot(vx, vy))})\n`
-      + `angular velocity  ${num(angularVelocity[base])} rad/s`;
+      + `angular velocity  ${num(angularVelocity[base])} rad/s${asleep[base] ? "\nasleep" : ""}`;
     tooltip.style.display = "block";
     if (mouse) {
       const left = Math.min(mouse.x + 14, width - tooltip.offsetWidth - 4);
@@ -709,6 +711,7 @@
     draw,
     bodyAt,
     sensorLit: (i, f = state.frame) => lit(f, i), // whether sensor body i holds something at frame f
+    asleep: (i, f = state.frame) => asleep[f * N + i] === 1, // whether body i sleeps at frame f
     scrubPoint: (f) => { // page pixels of frame f's place on the scrub bar (its mark), mid-height
       const rect = scrub.getBoundingClientRect();
       return [rect.left + markX(f), rect.top + rect.height / 2];

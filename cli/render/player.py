@@ -19,7 +19,7 @@ import numpy as np
 
 from . import colors
 from .bodies import RunInfo
-from .colors import hex_color
+from .colors import asleep_color, hex_color
 from .events import event_marks, read_events, sensor_bodies, sensor_occupancy
 from .frames import iter_blocks
 from .joints import ZIGZAG_TEETH, ZIGZAG_WIDTH
@@ -31,7 +31,7 @@ if TYPE_CHECKING:
 
 MAX_FRAMES = 2000
 MAX_BYTES = 50_000_000  # embedded array bytes (before base64)
-BODY_FRAME_BYTES = 4 * 6 + 1  # float32 x, y, angle, vx, vy, w and one active byte
+BODY_FRAME_BYTES = 4 * 6 + 2  # float32 x, y, angle, vx, vy, w, one active and one asleep byte
 CONTACT_BYTES = 4 * 4  # float32 point and normal
 
 
@@ -110,6 +110,7 @@ def _arrays(file: h5py.File, run: RunInfo, frames: range) -> tuple[dict[str, np.
         "velocity": np.empty((count, bodies, 2), dtype="<f4"),
         "angularVelocity": np.empty((count, bodies), dtype="<f4"),
         "active": np.empty((count, bodies), dtype=np.uint8),
+        "asleep": np.empty((count, bodies), dtype=np.uint8),
     }
     points, normals, offsets = [], [], [np.zeros(1, dtype=np.int64)]
     row = 0
@@ -120,6 +121,7 @@ def _arrays(file: h5py.File, run: RunInfo, frames: range) -> tuple[dict[str, np.
         arrays["velocity"][rows] = block.velocity
         arrays["angularVelocity"][rows] = block.angular_velocity
         arrays["active"][rows] = block.active
+        arrays["asleep"][rows] = block.asleep
         if block.contacts is not None and block.contact_offset is not None:
             points.append(block.contacts.point)
             normals.append(block.contacts.normal)
@@ -159,6 +161,7 @@ def _shapes(run: RunInfo) -> dict:
         "spoke": outlines.spoke.tolist(),
         "sensor": outlines.sensor.tolist(),
         "colors": [hex_color(color) for color in outlines.colors],
+        "asleepColors": [hex_color(asleep_color(color)) for color in outlines.colors],  # while it sleeps
     }
 
 

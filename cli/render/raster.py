@@ -166,10 +166,12 @@ class Paint:
     line: Color
 
 
-def paint(color: colors.RGB, body_type: str, sensor: bool, lit: bool = False) -> Paint:
-    """Dynamic bodies filled, kinematic ones filled and outlined in black, static ones outlined only;
-    sensors filled faintly (brighter while `lit`: something is inside) with a lighter outline and no spoke
-    (drawn on a layer blended on top)."""
+def paint(color: colors.RGB, body_type: str, sensor: bool, lit: bool = False, asleep: bool = False) -> Paint:
+    """Dynamic bodies filled (paler while `asleep`), kinematic ones filled and outlined in black, static
+    ones outlined only; sensors filled faintly (brighter while `lit`: something is inside) with a lighter
+    outline and no spoke (drawn on a layer blended on top)."""
+    if asleep and not sensor:
+        color = colors.asleep_color(color)
     if sensor:
         faint, fill = (*color, SENSOR_OUTLINE_ALPHA), (*color, SENSOR_LIT_ALPHA if lit else SENSOR_FILL_ALPHA)
         return Paint(fill, faint, SUPERSAMPLE, None, faint)
@@ -194,7 +196,8 @@ def _bodies(image: Image.Image, run: RunInfo, frame: Frame, view: View, visible:
             if outlines.sensor[s]:
                 sensors.append(s)
             else:
-                _shape(draw, run, s, pixels, tips, view.scale, paint(outlines.colors[s], run.types[i], False))
+                style = paint(outlines.colors[s], run.types[i], False, asleep=bool(frame.asleep[i]))
+                _shape(draw, run, s, pixels, tips, view.scale, style)
     if not sensors:
         return image
     layer = Image.new("RGBA", image.size, (0, 0, 0, 0))
