@@ -22,8 +22,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from rustycs.compiling import inlined, tick_kernel
 from rustycs.constants import FAT_MARGIN
-from rustycs.tick_kernel import tick_kernel
 
 
 class Pairs(NamedTuple):
@@ -73,7 +73,7 @@ def grown_pairs(pairs, capacity, cells):
                  pairs.inert)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def hitboxes_overlap(hitbox, i, j):
     return (hitbox[i, 0] <= hitbox[j, 2] and hitbox[j, 0] <= hitbox[i, 2]
             and hitbox[i, 1] <= hitbox[j, 3] and hitbox[j, 1] <= hitbox[i, 3])
@@ -85,7 +85,7 @@ def _cell(value, origin, inv_cell, count):
     return int(min(max((value - origin) * inv_cell, 0.0), count - 1.0))
 
 
-@njit(cache=True, inline="always")
+@inlined
 def pairs_hold(bodies, shapes, geometry, pairs):
     """Whether the pairs found for the fat hitboxes still hold: they were found (count >= 0), no body
     was switched on or off, and every active shape's hitbox lies inside its fat one (a non-finite
@@ -120,7 +120,7 @@ def fatten(bodies, shapes, geometry, pairs):
         fat_active[i] = active[body[i]]
 
 
-@njit(cache=True, inline="always")
+@inlined
 def filters_agree(shapes, i, j):
     """Whether the collision filters of shapes i and j let them touch: no shared non-zero group, each
     one's category in the other's mask."""
@@ -130,7 +130,7 @@ def filters_agree(shapes, i, j):
     return (shapes.category[i] & shapes.mask[j]) != 0 and (shapes.category[j] & shapes.mask[i]) != 0
 
 
-@njit(cache=True, inline="always")
+@inlined
 def may_collide(shapes, bodies, joints, joint_filter, i, j):
     """Whether shapes i and j may touch: of two bodies, at least one movable, not held apart by an
     active joint, neither a sensor, and the filters agree (no shared non-zero group; each one's category
@@ -157,7 +157,7 @@ def grid_scratch_size(n):
     return 13 * n + 33
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _select(values, k):
     """The k-th smallest of `values` (reordered in place): a deterministic quickselect."""
     lo = 0

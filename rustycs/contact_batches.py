@@ -20,8 +20,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from rustycs.compiling import inlined, tick_kernel
 from rustycs.contact_solver import INV_INERTIA, INV_MASS, LANES
-from rustycs.tick_kernel import tick_kernel
 
 
 class Batches(NamedTuple):
@@ -52,7 +52,7 @@ def new_batches(n_bodies, manifolds):
                    np.zeros(manifolds, np.int64), last)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _movable(body, i):
     return body[i, INV_MASS] != 0.0 or body[i, INV_INERTIA] != 0.0
 

@@ -11,6 +11,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from rustycs.compiling import inlined
 from rustycs.narrow_phase import NORMAL_IMPULSE, TANGENT_IMPULSE
 
 
@@ -35,7 +36,7 @@ def new_cache(capacity, key, normal_impulse, tangent_impulse):
     return cache
 
 
-@njit(cache=True, inline="always")
+@inlined
 def warm_start_points(points, n_points, cache):
     """Give each point the impulses last tick's point of the same key ended with."""
     key, data = points.key, points.data
@@ -50,7 +51,7 @@ def warm_start_points(points, n_points, cache):
             data[p, TANGENT_IMPULSE] = c_jt[f]
 
 
-@njit(cache=True, inline="always")
+@inlined
 def remember(points, n_points, cache):
     """Keep this tick's points and impulses for the next tick (the cache holds at least n_points)."""
     key, data = points.key, points.data

@@ -14,9 +14,9 @@ import numpy as np
 from numba import njit
 
 from rustycs.broad_phase import SHAPE_BITS
+from rustycs.compiling import inlined, tick_kernel
 from rustycs.events import CONTACT_BEGIN, CONTACT_END, record_event
 from rustycs.narrow_phase import NORMAL_IMPULSE, NX, NY, RAX, RAY, RBX, RBY, SEPARATION
-from rustycs.tick_kernel import tick_kernel
 
 
 class Touching(NamedTuple):
@@ -52,7 +52,7 @@ def grown_touching(touching, capacity):
     return grown
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _touches(points, first, count):
     """The first point of a manifold that overlaps or carries load, or -1."""
     data = points.data
@@ -62,7 +62,7 @@ def _touches(points, first, count):
     return -1
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _approach(bodies, points, manifolds, k, p):
     """The speed at which the bodies of manifold k closed along its normal at point p, from their
     velocities at the start of the tick (`bodies.v`, not yet stored back by the solver)."""
@@ -75,7 +75,7 @@ def _approach(bodies, points, manifolds, k, p):
     return max(0.0, -((vbx - vax) * manifolds.data[k, NX] + (vby - vay) * manifolds.data[k, NY]))
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _ended(bodies, tick, events, old_key, old_body, old_point, i, new_key, new_body, new_point, n_new):
     """Pair i of the last tick is not in this tick's manifolds: it ended (an event), unless its island
     sleeps (its points are in the store: it still touches). Returns the pairs touching now."""

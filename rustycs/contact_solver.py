@@ -24,6 +24,7 @@ import numpy as np
 from numba import njit
 
 from rustycs.body_types import DYNAMIC
+from rustycs.compiling import inlined_early, tick_kernel
 from rustycs.constants import MAX_PUSH_SPEED
 from rustycs.narrow_phase import (
     FRICTION,
@@ -38,7 +39,6 @@ from rustycs.narrow_phase import (
     SEPARATION,
     TANGENT_IMPULSE,
 )
-from rustycs.tick_kernel import tick_kernel
 
 # columns of a solver body row: velocities, inverse masses, displacement and rotation (cos, sin) since the
 # narrow phase
@@ -78,33 +78,33 @@ def softness(hertz, zeta, h):
     return omega / a1, a2 * a3, a3
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def lane_index(c, j):
     """Index of field 0 of lane j of chunk c."""
     return np.uint64(c) * _CHUNK + np.uint64(j)
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def point_index(o, k):
     """Index of field 0 of point k of the contact whose lane index is o."""
     return o + _FIRST_POINT + np.uint64(k) * _POINT_STRIDE
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def _zero(lanes, start, fields):
     """Zero `fields` fields of one lane from index `start`."""
     for f in range(fields):
         lanes[start + np.uint64(f * LANES)] = 0.0
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def relative_speed(vax, vay, wa, vbx, vby, wb, nx, ny, rna, rnb):
     """Speed of b's contact point relative to a's along the normal (n), or along the tangent when given
     the tangent and the anchors' cross products with it: (vb + wb x rb - va - wa x ra) . n."""
     return (vbx - vax) * nx + (vby - vay) * ny + (wb * rnb - wa * rna)
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def load_bodies(bodies, body):
     """Fill the solver rows of the bodies: velocities, inverse masses (none for a body asleep: a joint to
     the world moves it no more than a wall), no displacement yet since the narrow phase."""
@@ -122,7 +122,7 @@ def load_bodies(bodies, body):
         body[i, SIN] = 0.0
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def store_bodies(body, bodies):
     """Copy velocities back to the dynamic bodies (the others' velocities are theirs to keep)."""
     v, w, body_type = bodies.v, bodies.w, bodies.body_type
@@ -218,7 +218,7 @@ def prepare(batches, n_chunks, manifolds, points, radius, body, soft, stiff, lan
     return bouncy
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def store_impulses(batches, n_chunks, manifolds, lanes, points):
     """Copy the accumulated impulses back to the point rows (the next tick's warm start)."""
     fill, slot_manifold = batches.fill, batches.slot_manifold
@@ -232,7 +232,7 @@ def store_impulses(batches, n_chunks, manifolds, lanes, points):
                 point[m_first[m] + k, TANGENT_IMPULSE] = lanes[q + P_TANGENT_IMPULSE]
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def _gather(batches, c, body, lanes, poses):
     """Load the velocities of a chunk's bodies into its lanes; with `poses`, also the approach of the
     centres along the normal and the rotations since the narrow phase. Empty lanes keep their zeros."""
@@ -250,7 +250,7 @@ def _gather(batches, c, body, lanes, poses):
             lanes[o + L_CB], lanes[o + L_SB] = body[b, COS], body[b, SIN]
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def _scatter(batches, c, lanes, body):
     """Write a chunk's velocities back to its bodies, except immovable ones: the lanes of a chunk may
     share those, and they are never written, so that no contact waits for another through them."""
@@ -265,7 +265,7 @@ def _scatter(batches, c, lanes, body):
             body[b, VX], body[b, VY], body[b, W] = lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB]
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def _warm_start_lanes(c, lanes, points):
     for j in range(LANES):
         o = lane_index(c, j)
@@ -289,7 +289,7 @@ def _warm_start_lanes(c, lanes, points):
         lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB] = vbx, vby, wb
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def warm_start(batches, n_chunks, lanes, body):
     """Apply the accumulated impulses again at the start of a substep."""
     chunk_points = batches.chunk_points
@@ -302,7 +302,7 @@ def warm_start(batches, n_chunks, lanes, body):
         _scatter(batches, c, lanes, body)
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def _point_separation(lanes, o, q, dn, ca, sa, cb, sb):
     """A point's separation now: the anchors turned by each body's rotation since the narrow phase,
     projected on the normal through their precomputed dot and cross products."""
@@ -311,7 +311,7 @@ def _point_separation(lanes, o, q, dn, ca, sa, cb, sb):
     return dn + b_side - a_side + lanes[q + P_SEPARATION]
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def _point_bias(s, inv_h, use_bias, rate, mscale, iscale):
     """Bias speed, mass scale and impulse scale of a point at separation s: a gap may close within the
     substep, no more; an overlap is pushed apart softly in the biased pass."""
@@ -322,14 +322,14 @@ def _point_bias(s, inv_h, use_bias, rate, mscale, iscale):
     return 0.0, 1.0, 0.0
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def _point_masses(ma, ia, mb, ib, rna1, rnb1, rna2, rnb2):
     """The effective mass matrix of a manifold's two points along its normal: k11, k12, k22."""
     return (ma + mb + ia * rna1 * rna1 + ib * rnb1 * rnb1, ma + mb + ia * rna1 * rna2 + ib * rnb1 * rnb2,
             ma + mb + ia * rna2 * rna2 + ib * rnb2 * rnb2)
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def _two_points(k11, k12, k22, b1, b2, inv_det, normal_mass1, normal_mass2):
     """`two_point_lcp` without branches or divisions, so that the lane loop stays SIMD: the new normal
     impulses x >= 0 of both points with w = K x + b >= 0 and x . w = 0, from the inverse determinant
@@ -347,7 +347,7 @@ def _two_points(k11, k12, k22, b1, b2, inv_det, normal_mass1, normal_mass2):
     return total1, total2
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def _solve_lanes(c, lanes, inv_h, use_bias, points):
     for j in range(LANES):
         o = lane_index(c, j)
@@ -430,7 +430,7 @@ def _solve_lanes(c, lanes, inv_h, use_bias, points):
         lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB] = vbx, vby, wb
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def solve(batches, n_chunks, lanes, body, inv_h, use_bias):
     """One pass over all contacts; with `use_bias` the soft position bias pushes overlap apart, with
     each contact's softness (bias rate, mass and impulse scales) for substeps of 1 / inv_h seconds.
@@ -460,7 +460,7 @@ def solve(batches, n_chunks, lanes, body, inv_h, use_bias):
         _scatter(batches, c, lanes, body)
 
 
-@njit(cache=True, inline="always")
+@inlined_early
 def two_point_lcp(k11, k12, k22, b1, b2):
     """Impulses x >= 0 of the two points of a manifold with w = K x + b >= 0 and x . w = 0 (K their
     symmetric 2 x 2 effective mass matrix, b their speeds less their targets): both pushing, one, or none

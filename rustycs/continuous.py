@@ -15,20 +15,18 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
 from rustycs.body_types import DYNAMIC, STATIC
 from rustycs.broad_phase import SHAPE_BITS, SHAPE_MASK
+from rustycs.compiling import inlined, tick_kernel
 from rustycs.constants import LINEAR_SLOP
 from rustycs.contact_solver import COS, DX, DY, SIN
-from rustycs.tick_kernel import tick_kernel
 from rustycs.time_of_impact import Motion, time_of_impact
 
 EARLIEST, TRAVEL = 0, 1  # columns of `hold_back_passes`'s scratch
 SCRATCH_COLUMNS = 2
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _tick_motion(bodies, body, i, dt):
     """Body i's motion through the tick just solved: straight from its pose at the start of the tick to
     its pose now (the solver rows hold its displacement and its turn since then)."""
@@ -37,7 +35,7 @@ def _tick_motion(bodies, body, i, dt):
                   body[i, DX] / dt, body[i, DY] / dt, turn / dt, bodies.extent[i])
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _held_back(bodies, mover, other):
     """Whether a pass of body `mover` through body `other` is undone: a dynamic body's through a static or
     kinematic one, and a bullet's through any other."""
@@ -45,7 +43,7 @@ def _held_back(bodies, mover, other):
     return body_type[mover] == DYNAMIC and (body_type[other] != DYNAMIC or bullet[mover])
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _near(hitbox, i, j, grow):
     """Whether hitbox i grown by `grow` overlaps hitbox j."""
     return (hitbox[i, 0] - grow <= hitbox[j, 2] and hitbox[j, 0] <= hitbox[i, 2] + grow
@@ -65,7 +63,7 @@ def _sweep(shapes, sa, sb, motion_a, motion_b, dt, margin, sweep):
     return t / dt if t > 0.0 else 1.0
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _travel(body, i, extent):
     """A bound on how far body i's cores moved in the tick: its displacement plus its turn times its
     extent, the turn bounded from its sine (pi/2 |sin| up to a quarter turn) to spare an arctangent per

@@ -26,9 +26,9 @@ from numba import njit
 
 from rustycs.body_types import DYNAMIC
 from rustycs.broad_phase import filters_agree
+from rustycs.compiling import inlined, tick_kernel
 from rustycs.events import REMOVE, SPAWN, record_event
 from rustycs.motion import deactivate
-from rustycs.tick_kernel import tick_kernel
 
 NEVER = -1  # a remove tick: the body stays
 
@@ -51,7 +51,7 @@ def new_lifecycle(spawn_tick: np.ndarray, remove_tick: np.ndarray, sinks: np.nda
                      np.asarray(sinks, np.float64).reshape(-1, 4), if_free.astype(np.bool_), skipped)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _piece_reach(shapes, j):
     """How far piece j reaches from its body's centre of mass (any turn)."""
     reach = math.hypot(shapes.centroid[j, 0], shapes.centroid[j, 1])
@@ -60,7 +60,7 @@ def _piece_reach(shapes, j):
     return reach + shapes.radius[j]
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _piece_hits(shapes, q, px, py, c, s, cx, cy, r):
     """Whether the circle (cx, cy, r) overlaps the box of piece q of a body at (px, py) turned by
     (cos c, sin s): its core's box grown by its radius."""
@@ -77,7 +77,7 @@ def _piece_hits(shapes, q, px, py, c, s, cx, cy, r):
     return dx * dx + dy * dy < r * r
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _widest(shapes, first, count):
     """The largest radius of the pieces first .. first + count."""
     widest = 0.0

@@ -11,6 +11,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from rustycs.compiling import inlined
+
 CONTACT_BEGIN, CONTACT_END, SENSOR_ENTER, SENSOR_EXIT, SPAWN, REMOVE, ESCAPE, JOINT_BREAK = range(8)
 EVENT_KIND_NAMES = ("contact_begin", "contact_end", "sensor_enter", "sensor_exit", "spawn", "remove",
                     "escape", "joint_break")
@@ -35,7 +37,7 @@ def new_events(capacity):
                   np.zeros(1, np.int64))
 
 
-@njit(cache=True, inline="always")
+@inlined
 def record_event(events, tick, kind, a, b, px, py, speed):
     """Append an event (the caller has made sure there is room)."""
     k = events.count[0]
@@ -64,7 +66,7 @@ def grown_events(events, capacity):
     return bigger
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _listed(members, first, last, body):
     for k in range(first, last):
         if members[k] == body:
@@ -72,7 +74,7 @@ def _listed(members, first, last, body):
     return False
 
 
-@njit(cache=True, inline="always")
+@inlined
 def involves(events, e, kind, members, a0, a1, others, b0, b1):
     """Whether event e is of `kind` and concerns the bodies members[a0:a1] (any of them, on either side
     of a two-body event), and when others[b0:b1] is not empty, one body of each list; with no bodies

@@ -8,7 +8,8 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+
+from rustycs.compiling import inlined
 
 
 class Forces(NamedTuple):
@@ -21,7 +22,7 @@ class Forces(NamedTuple):
     attractor_min_distance: np.ndarray  # (A,) m
 
 
-@njit(cache=True, inline="always")
+@inlined
 def attraction(px, py, forces):
     """Acceleration towards the attractors; a local attractor acts only within its range."""
     position, gm, reach, softening = (forces.attractor_position, forces.attractor_gm, forces.attractor_range,
@@ -41,7 +42,7 @@ def attraction(px, py, forces):
     return ax, ay
 
 
-@njit(cache=True, inline="always")
+@inlined
 def attractor_potential(px, py, forces):
     """Potential per unit mass consistent with `attraction` (softened core, zero beyond range)."""
     position, gm_all, reach, softening = (forces.attractor_position, forces.attractor_gm,

@@ -16,8 +16,8 @@ import numpy as np
 from numba import njit
 
 from rustycs.body_types import STATIC
+from rustycs.compiling import inlined, tick_kernel
 from rustycs.pieces import CHAIN_SEGMENT
-from rustycs.tick_kernel import tick_kernel
 
 
 class Geometry(NamedTuple):
@@ -38,13 +38,13 @@ def new_geometry(n_bodies, n_shapes, max_vertices):
                     np.zeros(n_bodies))
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _turn(px, py, c, s, local, out, k):
     out[k, 0] = px + c * local[k, 0] - s * local[k, 1]
     out[k, 1] = py + s * local[k, 0] + c * local[k, 1]
 
 
-@njit(cache=True, inline="always")
+@inlined
 def place_piece(shapes, j, px, py, c, s, geometry, row):
     """Place shape row j of a body whose centre of mass is at (px, py), turned by the angle of cosine c
     and sine s, into row `row` of `geometry` (vertices, normals, centroid, chain ghosts); returns the

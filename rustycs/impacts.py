@@ -20,8 +20,7 @@ bounce warm-starting the next tick would push a row of resting balls apart again
 
 from __future__ import annotations
 
-from numba import njit
-
+from rustycs.compiling import inlined, tick_kernel
 from rustycs.constants import BOUNCE_PASSES, BOUNCE_SPEED_TOLERANCE
 from rustycs.contact_solver import (
     L_E,
@@ -50,12 +49,11 @@ from rustycs.contact_solver import (
     relative_speed,
     two_point_lcp,
 )
-from rustycs.tick_kernel import tick_kernel
 
 NO_BOUNCE = -1.0  # P_BOUNCE of a point that takes no part in an impact (targets are >= 0)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _push(v, lanes, o, a, b, tx, ty, r1a, r1b, x1, r2a, r2b, x2):
     """Apply impulses x1, x2 along the unit direction t at a manifold's two points (r1a: point 1's anchor
     on a crossed with t) to velocity rows v."""
@@ -69,7 +67,7 @@ def _push(v, lanes, o, a, b, tx, ty, r1a, r1b, x1, r2a, r2b, x2):
     v[b, W] += ib * (r1b * x1 + r2b * x2)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _masses(lanes, o, r1a, r1b, r2a, r2b):
     """The 2 x 2 effective mass matrix of a manifold's two points along one direction."""
     ma, ia, mb, ib = lanes[o + L_MA], lanes[o + L_IA], lanes[o + L_MB], lanes[o + L_IB]
@@ -77,13 +75,13 @@ def _masses(lanes, o, r1a, r1b, r2a, r2b):
             ma + mb + ia * r2a * r2a + ib * r2b * r2b)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _speed(v, a, b, nx, ny, ra, rb):
     """Speed of b's point relative to a's along (nx, ny), in velocity rows v."""
     return relative_speed(v[a, VX], v[a, VY], v[a, W], v[b, VX], v[b, VY], v[b, W], nx, ny, ra, rb)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def keep_velocities(body, before):
     """Copy the solver rows' velocities before the soft step: the impacts start from them."""
     for i in range(body.shape[0]):
@@ -92,7 +90,7 @@ def keep_velocities(body, before):
         before[i, W] = body[i, W]
 
 
-@njit(cache=True, inline="always")
+@inlined
 def bounce_targets(batches, n_chunks, lanes, before, threshold):
     """The normal speed each point stopped by the soft step should leave the tick at, from the velocity
     rows `before` it (which this overwrites): the sequence of collisions. A point takes part when the
@@ -156,7 +154,7 @@ def bounce_targets(batches, n_chunks, lanes, before, threshold):
                                                  lanes[q + P_RNA], lanes[q + P_RNB])
 
 
-@njit(cache=True, inline="always")
+@inlined
 def restitute(batches, n_chunks, lanes, body):
     """One pass: restore the normal speed of every point that took part in an impact to its target (a
     manifold's two points together), keeping the accumulated impulses >= 0. Returns the largest change
@@ -193,7 +191,7 @@ def restitute(batches, n_chunks, lanes, body):
     return largest
 
 
-@njit(cache=True, inline="always")
+@inlined
 def impact_friction(batches, n_chunks, lanes, body):
     """One pass of friction at the points that took part in an impact, towards no slip, with the
     accumulated friction impulse within friction x the accumulated normal impulse, the bounce's

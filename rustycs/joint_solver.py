@@ -24,6 +24,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from rustycs.compiling import inlined, tick_kernel
 from rustycs.contact_solver import COS, INV_INERTIA, INV_MASS, SIN, VX, VY, W, softness
 from rustycs.joints import (
     ANGULAR_HERTZ,
@@ -68,7 +69,6 @@ from rustycs.joints import (
     WELD,
     WHEEL,
 )
-from rustycs.tick_kernel import tick_kernel
 
 # columns of a joint's prepared row (`prepare_joints`): anchors and axis in world orientation at the start
 # of the tick, and its spring (and a weld's angular spring): see `_spring`
@@ -107,17 +107,17 @@ def new_joint_work(n_bodies, n_joints):
                      np.zeros(GROUPS + 1, np.int64), rotation, np.zeros(n_joints, np.int64))
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _turned(c, s, x, y):
     return c * x - s * y, s * x + c * y
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _cross(ax, ay, bx, by):
     return ax * by - ay * bx
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _velocity(body, i):
     """(vx, vy, w, inverse mass, inverse inertia) of body i; the fixed world (-1) is still and immovable."""
     if i < 0:
@@ -125,7 +125,7 @@ def _velocity(body, i):
     return body[i, VX], body[i, VY], body[i, W], body[i, INV_MASS], body[i, INV_INERTIA]
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _push(body, i, jx, jy, jw, lam):
     """Body i's velocity after the impulse lam along Jacobian (jx, jy, jw); immovable bodies keep theirs."""
     if i >= 0:
@@ -134,7 +134,7 @@ def _push(body, i, jx, jy, jw, lam):
         body[i, W] += body[i, INV_INERTIA] * jw * lam
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _anchor(body, x, i, f, cx, cy):
     """Body i's anchor now: its offset from the centre of mass (the tick's, turned by the rotation since)
     and the world point. The world's anchors are world points about the origin."""
@@ -144,7 +144,7 @@ def _anchor(body, x, i, f, cx, cy):
     return rx, ry, x[i, 0] + rx, x[i, 1] + ry
 
 
-@njit(cache=True, inline="always")
+@inlined
 def anchor_point(bodies, joints, j):
     """The world point of joint j's anchor on its second body (where its joint_break event is placed)."""
     b = joints.body_b[j]
@@ -153,17 +153,17 @@ def anchor_point(bodies, joints, j):
     return bodies.x[b, 0] + rx, bodies.x[b, 1] + ry
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _rotation(body, i):
     return (1.0, 0.0) if i < 0 else (body[i, COS], body[i, SIN])
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _angle(angle, i):
     return 0.0 if i < 0 else angle[i]
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _spin(body, a, b):
     """Whether the joint's bodies can turn relative to each other."""
     return (a >= 0 and body[a, INV_INERTIA] > 0.0) or (b >= 0 and body[b, INV_INERTIA] > 0.0)
@@ -222,7 +222,7 @@ def _row(mode, kind, body, a, b, jax, jay, jaw, jbx, jby, jbw, c, impulses, j, c
     _push(body, b, jbx, jby, jbw, total - old)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _point(mode, kind, body, a, b, rax, ray, rbx, rby, cx, cy, impulses, j, soft, spring, inv_h, reaction):
     """The anchors meet (error (cx, cy) from a's anchor to b's, lever arms ra and rb): the x and y rows
     solved together through their 2 x 2 effective mass, as Box2D does; one after the other, the rows
@@ -275,14 +275,14 @@ def _point(mode, kind, body, a, b, rax, ray, rbx, rby, cx, cy, impulses, j, soft
     _push(body, b, 0.0, 1.0, rbx, py)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _along(ux, uy, lax, lay, rbx, rby, sign):
     """Jacobians of the rate of (pb - pa) . u, with a's lever arm la and b's rb, times sign."""
     return (-sign * ux, -sign * uy, -sign * _cross(lax, lay, ux, uy), sign * ux, sign * uy,
             sign * _cross(rbx, rby, ux, uy))
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _limits(mode, body, a, b, jac, coordinate, lower, upper, impulses, j, soft, spring, inv_h, reaction, rbx,
             rby):
     """A coordinate held between lower and upper: two one-sided rows along the Jacobian and against it."""
@@ -293,12 +293,12 @@ def _limits(mode, body, a, b, jac, coordinate, lower, upper, impulses, j, soft, 
          UPPER_IMPULSE, soft, spring, 0.0, 0.0, inv_h, reaction, rbx, rby)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _springs(f, column):
     return (f[column], f[column + 1], f[column + 2], f[column + 3])
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _revolute_or_weld_pass(mode, bodies, body, joints, work, group, soft, h):
     """Revolute joints (spring, motor, limits on the angle; the anchors meet) and welds (the angle held,
     rigidly or softly; the anchors meet, rigidly or softly), in their order."""
@@ -340,7 +340,7 @@ def _revolute_or_weld_pass(mode, bodies, body, joints, work, group, soft, h):
                inv_h, reaction)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _slider_pass(mode, bodies, body, joints, work, group, soft, h):
     """Prismatic joints (spring, motor, limits along the axis; rigid across it and in angle) and wheels
     (spring and limits along the axis, a motor turning the wheel; rigid across the axis), in order."""
@@ -389,7 +389,7 @@ def _slider_pass(mode, bodies, body, joints, work, group, soft, h):
                  soft, spring, 0.0, 0.0, inv_h, reaction, rbx, rby)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _length_pass(mode, bodies, body, joints, work, group, soft, h):
     """Distance joints (a rigid rod, or a spring held between min and max length), ropes (at most their
     length) and pulleys (length_a + ratio length_b held), in order."""
@@ -437,7 +437,7 @@ def _length_pass(mode, bodies, body, joints, work, group, soft, h):
                     soft, spring, inv_h, reaction, rbx, rby)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _coordinate(bodies, body, joints, frames, j):
     """Joint j's coordinate now (revolute: angle; prismatic: translation along the axis) and its
     Jacobians on its body a and body b."""
@@ -454,7 +454,7 @@ def _coordinate(bodies, body, joints, frames, j):
     return ux * dx + uy * dy, _along(ux, uy, dx + rax, dy + ray, rbx, rby, 1.0)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _gear_pass(mode, bodies, body, joints, work, soft, h):
     """Gears: coordinate_1 + ratio coordinate_2 stays constant, one row on the four bodies of the two
     joints (a body in two slots takes both parts), with the joints' Jacobians."""
@@ -509,7 +509,7 @@ def joints_pass(mode, bodies, body, joints, work, soft, h):
     _gear_pass(mode, bodies, body, joints, work, soft, h)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _group(kind):
     if kind == REVOLUTE or kind == WELD:
         return ANGULAR_GROUP
@@ -520,7 +520,7 @@ def _group(kind):
     return LENGTH_GROUP
 
 
-@njit(cache=True, inline="always")
+@inlined
 def order_joints(joints, work):
     """Each group's joint rows, in row order, so that a pass visits only its group's joints: four scans
     of every joint for its kind in each of a tick's 13 passes cost 0.13 ms of the 19,800-joint grid's
@@ -535,7 +535,7 @@ def order_joints(joints, work):
     work.starts[GROUPS] = n
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _spring(hertz, damping_ratio, h, f, column):
     """A spring's four numbers in a prepared row from `column`. A spring slow against the substeps
     (h omega <= 1) is explicit: a row's impulse is -m (h omega^2 C + (1 - exp(-2 zeta omega h)) dC/dt), once
@@ -555,7 +555,7 @@ def _spring(hertz, damping_ratio, h, f, column):
         f[column + 3] = 0.0
 
 
-@njit(cache=True, inline="always")
+@inlined
 def prepare_springs(joints, h, work):
     """The softness of the joints' springs at substep h (the same for every tick of a block)."""
     for j in range(joints.kind.shape[0]):
@@ -576,7 +576,7 @@ def prepare_block(joints, h, work):
         work.rotation[i, 2] = -1.0
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _body_rotation(angle, rotation, i, tick):
     """Cosine and sine of body i's angle (the fixed world, -1: none), computed once a tick for all its
     joints (a body of a grid is in four)."""

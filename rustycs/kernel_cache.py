@@ -28,7 +28,7 @@ def _cache_dirs() -> list[str]:
 
 _IMPORT = re.compile(
     r"^(?:from rustycs\.(\w+) import|import rustycs\.(\w+)|from rustycs import \(?([\w ,\n]+))", re.MULTILINE)
-_KERNEL = re.compile(r"@(?:njit|tick_kernel)\b|\bnjit\(")
+_KERNEL = re.compile(r"@(?:njit|tick_kernel|inlined\w*)\b|\bnjit\(")
 
 
 def _compiled_sources() -> dict[str, bytes]:

@@ -26,6 +26,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from rustycs.compiling import inlined
 from rustycs.constants import CHAIN_ANGLE_TOLERANCE, LINEAR_SLOP, REFERENCE_TOLERANCE
 from rustycs.pieces import OPEN_END, OPEN_START
 
@@ -46,7 +47,7 @@ def new_collision():
     return Collision(np.zeros(2), np.zeros((2, 2)), np.zeros(2), np.zeros(2, np.int64))
 
 
-@njit(cache=True, inline="always")
+@inlined
 def collide_circles(xa, ya, ra, xb, yb, rb, margin, out):
     normal, points, separations, ids = out  # unpacked once: a field read per use costs
     dx = xb - xa
@@ -71,7 +72,7 @@ def collide_circles(xa, ya, ra, xb, yb, rb, margin, out):
     return 1
 
 
-@njit(cache=True, inline="always")
+@inlined
 def collide_polygon_circle(verts, normals, counts, i, rp, cx, cy, r, margin, out):
     """Piece i (radius rp) against a circle; the normal points from the piece to the circle."""
     normal, points, separations, ids = out  # unpacked once: a field read per use costs
@@ -118,7 +119,7 @@ def collide_polygon_circle(verts, normals, counts, i, rp, cx, cy, r, margin, out
     return 1
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _max_separation(verts, normals, counts, a, b):
     """Edge of piece a with the greatest separation of piece b's vertices from it.
 
@@ -141,7 +142,7 @@ def _max_separation(verts, normals, counts, a, b):
     return edge, best
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _box_axes(verts, normals, centre, i):
     """A box's distances from its centre to its faces 0 and 1, which are also those to faces 2 and 3
     (a box's vertices run from its lower left corner, counter-clockwise, so face k + 2 is opposite
@@ -152,7 +153,7 @@ def _box_axes(verts, normals, centre, i):
     return h0, h1
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _box_max_separation(normals, centre, a, ha0, ha1, b, hb0, hb1):
     """`_max_separation` for two boxes, with a quarter of the projections: the lowest point of box b
     along a normal n lies |n.e0| hb0 + |n.e1| hb1 below its centre (e0, e1 its face normals, hb0, hb1 its
@@ -186,7 +187,7 @@ def _clip(px, py, qx, qy, dp, dq, lo, hi):
     return px + f * (qx - px), py + f * (qy - py)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _clip_edges(r1x, r1y, r2x, r2y, nx, ny, p1x, p1y, p2x, p2y, r_ref, r_inc, margin, base, flip, out):
     """Clip the incident edge p1 -> p2 (running against the reference edge) to the slab between the
     reference edge r1 -> r2's side planes, and keep the points within `margin` of the reference
@@ -232,7 +233,7 @@ def _clip_edges(r1x, r1y, r2x, r2y, nx, ny, p1x, p1y, p2x, p2y, r_ref, r_inc, ma
     return count
 
 
-@njit(cache=True, inline="always")
+@inlined
 def collide_polygons(verts, normals, counts, centre, boxes, a, ra, b, rb, margin, out):
     """Pieces a and b with radii ra and rb (with `boxes`, two boxes); the normal points from a to b."""
     normal, points, separations, ids = out  # unpacked once: a field read per use costs
@@ -349,7 +350,7 @@ def _rounded_corners(r1x, r1y, r2x, r2y, p1x, p1y, p2x, p2y, ref, ref2, inc, inc
     return 1
 
 
-@njit(cache=True, inline="always")
+@inlined
 def collide_capsules(verts, a, ra, b, rb, margin, out):
     """Two pieces of two vertices each (capsules, segments): their cores are segments, whose side normals
     alone miss the ends, so the closest points of the segments decide. Where their projections overlap,
@@ -427,7 +428,7 @@ def collide_capsules(verts, a, ra, b, rb, margin, out):
     return 1
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _segment_distance(p1x, p1y, q1x, q1y, p2x, p2y, q2x, q2y):
     """Closest points of the segments p1 q1 and p2 q2: the fractions along each (0 and 1: their ends)
     and the squared distance between the points."""
@@ -455,13 +456,13 @@ def _segment_distance(p1x, p1y, q1x, q1y, p2x, p2y, q2x, q2y):
 
 # ------------------------------------------------------------------------------- chain segments
 
-@njit(cache=True, inline="always")
+@inlined
 def _unit(x, y):
     length = math.sqrt(x * x + y * y)
     return x / length, y / length
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _chain_side(verts, normals, ghosts, open_ends, c, flip):
     """Segment c's points, neighbours and open ends as seen from its side `flip` (0: the side its
     normal 0 points to; 1: the other, with the segment's direction reversed)."""
@@ -474,7 +475,7 @@ def _chain_side(verts, normals, ghosts, open_ends, c, flip):
             normals[c, 0, 0], normals[c, 0, 1])
 
 
-@njit(cache=True, inline="always")
+@inlined
 def collide_chain_circle(verts, normals, ghosts, open_ends, c, cx, cy, r, margin, out):
     """Chain segment c against a circle; the normal points from the segment to the circle. The joint
     with the previous segment belongs to that segment, and a centre over the next segment's face is
@@ -522,7 +523,7 @@ def collide_chain_circle(verts, normals, ghosts, open_ends, c, cx, cy, r, margin
 SKIP, ADMIT, SNAP = 0, 1, 2
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _classify(mx, my, ex, ey, convex1, n0x, n0y, convex2, n2x, n2y):
     """What a candidate normal m (from the segment, direction e) means at the segment's joints: ADMIT
     where it lies in the segment's share of a convex joint's vertex region, SKIP where it belongs to
@@ -536,7 +537,7 @@ def _classify(mx, my, ex, ey, convex1, n0x, n0y, convex2, n2x, n2y):
     return SNAP
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _min_offset(verts, counts, p, nx, ny, ox, oy):
     """The least n . (v - o) over piece p's vertices, and the vertex that gives it."""
     best = math.inf
@@ -549,7 +550,7 @@ def _min_offset(verts, counts, p, nx, ny, ox, oy):
     return best, which
 
 
-@njit(cache=True, inline="always")
+@inlined
 def collide_chain_polygon(verts, normals, counts, ghosts, open_ends, c, p, rp, margin, out):
     """Chain segment c against piece p (radius rp: a polygon, a capsule, a segment or another chain's
     segment); the normal points from the segment to the piece.

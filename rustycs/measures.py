@@ -24,9 +24,9 @@ import numpy as np
 from numba import njit
 
 from rustycs.body_types import DYNAMIC
+from rustycs.compiling import inlined, tick_kernel
 from rustycs.events import EVENT_KIND_NAMES, involves
 from rustycs.observables import body_origin, contact_statistics, energies_and_momenta
-from rustycs.tick_kernel import tick_kernel
 
 VALUE, COUNT_INSIDE, HISTOGRAM, FIRST, TIME_INSIDE = range(5)
 FORM_NAMES = ("value", "count_inside", "histogram", "first", "time_inside")
@@ -142,7 +142,7 @@ class MeasureBook:
         return out
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _quantity(code, bodies, i):
     x, v, w, angle = bodies.x, bodies.v, bodies.w, bodies.angle
     if code <= 1:
@@ -160,7 +160,7 @@ def _quantity(code, bodies, i):
     return 0.5 * (bodies.mass[i] * (v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1]) + spin)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _observable(code, bodies, forces, contacts):
     if code >= OBSERVABLE + 5:
         count, deepest = contact_statistics(contacts)
@@ -169,13 +169,13 @@ def _observable(code, bodies, forces, contacts):
     return (kinetic, potential, px, py, angular)[code - OBSERVABLE]
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _counts(bodies, i):
     """Whether body i belongs to a set now: an active dynamic body."""
     return bodies.active[i] and bodies.body_type[i] == DYNAMIC
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _median(values, n):
     """The median of values[:n] (sorted in place by insertion: sets are small)."""
     for i in range(1, n):
@@ -188,7 +188,7 @@ def _median(values, n):
     return values[n // 2] if n % 2 == 1 else 0.5 * (values[n // 2 - 1] + values[n // 2])
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _sample(measures, m, bodies, forces, contacts):
     """Measure m's values now (value, count_inside, histogram) into measures.sample at its rows."""
     row = measures.row_first[m]

@@ -10,14 +10,12 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
 from rustycs.body_types import DYNAMIC, STATIC
+from rustycs.compiling import inlined, tick_kernel
 from rustycs.contact_solver import COS, DX, DY, SIN, VX, VY, W
 from rustycs.events import ESCAPE, record_event
 from rustycs.forces import attraction
 from rustycs.sleep import wake_island
-from rustycs.tick_kernel import tick_kernel
 
 
 @tick_kernel
@@ -33,7 +31,7 @@ def damping_factors(bodies, dt, decay):
     return damped
 
 
-@njit(cache=True, inline="always")
+@inlined
 def damp(body, bodies, decay):
     """Shrink the dynamic bodies' velocities by a tick's damping: exactly v0 exp(-c t) after t seconds."""
     body_type = bodies.body_type
@@ -44,7 +42,7 @@ def damp(body, bodies, decay):
             body[i, W] *= decay[i, 1]
 
 
-@njit(cache=True, inline="always")
+@inlined
 def integrate_velocities(body, bodies, forces, h):
     x, body_type, active, scale, asleep = (bodies.x, bodies.body_type, bodies.active, bodies.gravity_scale,
                                            bodies.asleep)
@@ -57,7 +55,7 @@ def integrate_velocities(body, bodies, forces, h):
         body[i, VY] += h * (scale[i] * gy + ay)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def integrate_positions(body, bodies, h):
     """Move bodies and keep their displacement since the narrow phase (for the contact solver)."""
     x, angle, body_type, active = bodies.x, bodies.angle, bodies.body_type, bodies.active
@@ -81,7 +79,7 @@ def integrate_positions(body, bodies, h):
             body[i, SIN] = s * inv
 
 
-@njit(cache=True, inline="always")
+@inlined
 def first_non_finite(bodies):
     """Index of the first moving body with a non-finite state, or -1."""
     x, angle, v, w = bodies.x, bodies.angle, bodies.v, bodies.w
@@ -95,7 +93,7 @@ def first_non_finite(bodies):
     return -1
 
 
-@njit(cache=True, inline="always")
+@inlined
 def deactivate(bodies, i):
     """Take body i out of the world: frozen, no longer collides (it left the bounds or was removed); the
     island it slept in wakes, as it no longer holds the others up."""
@@ -107,7 +105,7 @@ def deactivate(bodies, i):
     bodies.w[i] = 0.0
 
 
-@njit(cache=True, inline="always")
+@inlined
 def apply_bounds(bodies, bounds, tick, events):
     """Deactivate dynamic bodies whose centre left the bounds (an `escape` event each); return how many
     left this tick."""

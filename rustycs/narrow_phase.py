@@ -18,6 +18,7 @@ import numpy as np
 from numba import njit
 
 from rustycs.broad_phase import SHAPE_BITS, SHAPE_MASK, hitboxes_overlap
+from rustycs.compiling import inlined, tick_kernel
 from rustycs.constants import LINEAR_SLOP
 from rustycs.manifold import (
     Collision,
@@ -30,7 +31,6 @@ from rustycs.manifold import (
     new_collision,
 )
 from rustycs.pieces import BOX, CHAIN_SEGMENT, CIRCLE
-from rustycs.tick_kernel import tick_kernel
 from rustycs.time_of_impact import Sweep, motion_now, new_sweep, time_of_impact
 
 FEATURE_BITS = 8  # a point's key: (pair key << FEATURE_BITS) | feature id
@@ -122,7 +122,7 @@ def new_contacts(capacity, sleeps, kept):
                     new_collision(), new_sweep())
 
 
-@njit(cache=True, inline="always")
+@inlined
 def collide_pair(shapes, geometry, sa, sb, within, out):
     """The manifold of shapes sa and sb (kinds in any order), its normal from sa to sb."""
     kind, radius, n_verts = shapes.kind, shapes.radius, shapes.count
@@ -162,7 +162,7 @@ def collide_pair(shapes, geometry, sa, sb, within, out):
     return count
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _swept_back(m, t, px, py):
     """Where the point of a body moving as `m` that is at (px, py) after t seconds is now."""
     dx = px - (m.x + m.vx * t)
@@ -343,11 +343,13 @@ def contact_rows(contacts):
                        data[:, NORMAL_IMPULSE].copy(), data[:, TANGENT_IMPULSE].copy())
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _stored_row(stored, f, key, body_a, body_b, point, normal, data, row):
     key[row] = stored.key[f]
     body_a[row] = stored.body[f, 0]
     body_b[row] = stored.body[f, 1]
-    point[row] = stored.position[f]
-    normal[row] = stored.normal[f]
-    data[row] = stored.data[f]
+    for d in range(2):  # element by element: a row's view would need reference counting
+        point[row, d] = stored.position[f, d]
+        normal[row, d] = stored.normal[f, d]
+    for column in range(data.shape[1]):
+        data[row, column] = stored.data[f, column]

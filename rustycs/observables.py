@@ -8,11 +8,12 @@ import numpy as np
 from numba import njit
 
 from rustycs.body_types import DYNAMIC
+from rustycs.compiling import inlined
 from rustycs.forces import attractor_potential
 from rustycs.narrow_phase import NORMAL_IMPULSE, SEPARATION
 
 
-@njit(cache=True, inline="always")
+@inlined
 def energies_and_momenta(bodies, forces):
     """Kinetic and potential energy, linear and angular momentum (about the origin) of the active
     dynamic bodies."""
@@ -41,7 +42,7 @@ def energies_and_momenta(bodies, forces):
     return kinetic, potential, px, py, angular
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _touching(data, n, count, deepest):
     for p in range(n):
         if data[p, SEPARATION] <= 0.0 or data[p, NORMAL_IMPULSE] > 0.0:
@@ -50,7 +51,7 @@ def _touching(data, n, count, deepest):
     return count, deepest
 
 
-@njit(cache=True, inline="always")
+@inlined
 def contact_statistics(contacts):
     """Touching points (overlapping or carrying load) and the deepest overlap among the last tick's
     contact points and those asleep, without building the contact list."""
@@ -58,7 +59,7 @@ def contact_statistics(contacts):
     return _touching(contacts.asleep.data, contacts.asleep.count[0], count, deepest)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def body_origin(x, angle, origin, i):
     """Body i's origin: its centre of mass plus the rotated offset to the origin."""
     ox = origin[i, 0]

@@ -22,6 +22,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from rustycs.compiling import inlined
 from rustycs.geometry import new_geometry, place_piece
 from rustycs.pieces import MAX_VERTICES
 
@@ -74,7 +75,7 @@ def _place_all(bodies, shapes, sensors, mask):
     return geometry, box, eligible
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _cell_range(grid_origin, cell, nx, ny, x0, y0, x1, y1):
     """The cells (inclusive, clamped to the grid) a box covers."""
     i0 = min(max(int((x0 - grid_origin[0]) / cell), 0), nx - 1)
@@ -122,7 +123,7 @@ def _bin(box, eligible):
 # ------------------------------------------------------------------------------------ one piece
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _core_distance(px, py, geometry, shapes, j):
     """Distance from a point to piece j's core (0 inside a core of 3 or more corners)."""
     k = shapes.count[j]
@@ -142,7 +143,7 @@ def _core_distance(px, py, geometry, shapes, j):
     return 0.0 if inside else nearest
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _contains(px, py, geometry, shapes, j):
     """Whether piece j holds the point (lines, having no area, hold none)."""
     if shapes.count[j] == 2 and shapes.radius[j] == 0.0:
@@ -150,7 +151,7 @@ def _contains(px, py, geometry, shapes, j):
     return _core_distance(px, py, geometry, shapes, j) <= shapes.radius[j]
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _ray_disc(ox, oy, dx, dy, cx, cy, r):
     """Fraction where o + t d (t in [0, 1]) enters the disc from outside, and the normal there."""
     fx, fy = ox - cx, oy - cy
@@ -166,7 +167,7 @@ def _ray_disc(ox, oy, dx, dy, cx, cy, r):
     return t, (fx + t * dx) / r, (fy + t * dy) / r
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _ray_face(ox, oy, dx, dy, ax, ay, bx, by, nx, ny):
     """Fraction where o + t d crosses the face a-b from its outer side (normal n), and n."""
     den = nx * dx + ny * dy
@@ -180,7 +181,7 @@ def _ray_face(ox, oy, dx, dy, ax, ay, bx, by, nx, ny):
     return t if 0.0 <= along <= ex * ex + ey * ey else MISS
 
 
-@njit(cache=True, inline="always")
+@inlined
 def ray_piece(ox, oy, dx, dy, geometry, shapes, j):
     """Fraction (0..1, MISS for none) where the ray o + t d first meets piece j, and the normal there."""
     length = math.hypot(dx, dy)
@@ -209,7 +210,7 @@ def ray_piece(ox, oy, dx, dy, geometry, shapes, j):
 # ------------------------------------------------------------------------------------ batches
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _walk(grid, geometry, shapes, ox, oy, dx, dy, ray, stamp, closest, hits, found):
     """Walk one ray's cells in order, testing each piece once. `closest`: stop past the nearest hit and
     return it; else write every hit into `hits` rows from `found` on (as far as they reach). Returns

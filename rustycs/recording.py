@@ -14,9 +14,9 @@ import math
 import numpy as np
 
 from rustycs.body_types import DYNAMIC
+from rustycs.compiling import tick_kernel
 from rustycs.joints import FORCE_X, FORCE_Y, TORQUE
 from rustycs.observables import body_origin, contact_statistics, energies_and_momenta
-from rustycs.tick_kernel import tick_kernel
 
 # the buffer's arrays, in the order the compiled code takes them: name -> (per-frame shape, dtype),
 # where "n" stands for the body count and "j" for the joint count

@@ -7,13 +7,11 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from numba import njit
-
+from rustycs.compiling import inlined, tick_kernel
 from rustycs.emitters import Lifecycle, appear_and_vanish
 from rustycs.measures import Measures, fold
 from rustycs.sensors import Sensors, sense
 from rustycs.stop_conditions import StopConditions, first_held
-from rustycs.tick_kernel import tick_kernel
 
 EVENT_MARGIN = 16  # rows of the events buffer kept free beyond a tick's bound
 
@@ -32,7 +30,7 @@ def events_bound(n_sensor_bodies, n_bodies, n_joints, n_manifolds, n_touching):
     return n_manifolds + n_touching + n_bodies * (2 + n_sensor_bodies) + n_joints + EVENT_MARGIN
 
 
-@njit(cache=True, inline="always")
+@inlined
 def has_scenario(scenario):
     """Whether the scenario does anything at the end of a tick (most worlds: no)."""
     return (scenario.life.timed.shape[0] > 0 or scenario.life.sinks.shape[0] > 0

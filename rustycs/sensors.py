@@ -14,14 +14,13 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
 from rustycs.body_types import DYNAMIC
+from rustycs.compiling import inlined, tick_kernel
 from rustycs.events import SENSOR_ENTER, SENSOR_EXIT, record_event
 from rustycs.geometry import Geometry, new_geometry, place_piece
 from rustycs.manifold import Collision, new_collision
 from rustycs.narrow_phase import collide_pair
-from rustycs.tick_kernel import tick_kernel
 
 
 class Sensors(NamedTuple):
@@ -45,7 +44,7 @@ def new_sensors(bodies, shapes, max_vertices: int) -> Sensors:
                    new_collision())
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _overlaps(shapes, sensors, first, count, b, bodies):
     """Whether a non-sensor shape of body b, placed where it is now, overlaps one of the sensor shapes
     first .. first + count (already placed)."""

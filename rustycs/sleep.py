@@ -28,10 +28,10 @@ from numba import njit
 
 from rustycs.body_types import DYNAMIC
 from rustycs.broad_phase import SHAPE_BITS, SHAPE_MASK, hitboxes_overlap
+from rustycs.compiling import inlined, tick_kernel
 from rustycs.constants import SLEEP_THRESHOLD
 from rustycs.contact_solver import DX, DY, SIN
 from rustycs.narrow_phase import NORMAL_IMPULSE, NX, NY, TANGENT_IMPULSE, collide_pair
-from rustycs.tick_kernel import tick_kernel
 
 
 class Islands(NamedTuple):
@@ -47,7 +47,7 @@ def new_islands(n_bodies):
     return Islands(np.arange(n_bodies), np.zeros(n_bodies), np.zeros(n_bodies, np.bool_))
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _find(parent, i):
     while parent[i] != i:  # path halving
         parent[i] = parent[parent[i]]
@@ -55,7 +55,7 @@ def _find(parent, i):
     return i
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _union(parent, a, b):
     """Join the islands of a and b under the smaller root: the roots do not depend on the order."""
     ra = _find(parent, a)
@@ -66,13 +66,13 @@ def _union(parent, a, b):
         parent[ra] = rb
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _movable(bodies, i):
     """An awake dynamic body that is in the world (-1, the fixed world, is not)."""
     return i >= 0 and bodies.body_type[i] == DYNAMIC and bodies.active[i] and not bodies.asleep[i]
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _moving(bodies, i):
     """A body that reaches what it touches: an awake dynamic body, or a kinematic one in motion."""
     if i < 0 or not bodies.active[i] or bodies.asleep[i]:
@@ -82,12 +82,12 @@ def _moving(bodies, i):
     return bodies.v[i, 0] != 0.0 or bodies.v[i, 1] != 0.0 or bodies.w[i] != 0.0
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _sleeping(bodies, i):
     return i >= 0 and bodies.asleep[i]
 
 
-@njit(cache=True, inline="always")
+@inlined
 def wake_island(bodies, island):
     """Wake every body of `island` (the row of its root)."""
     for i in range(bodies.asleep.shape[0]):
@@ -134,7 +134,7 @@ def wake_reached(pair_keys, n_pairs, bodies, shapes, geometry, joints, contacts,
         wake[i] = False
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _pair_asleep(bodies, a, b):
     """Whether the pair of bodies a and b sleeps: neither awake and dynamic, one of them asleep."""
     return (bodies.asleep[a] or bodies.asleep[b]) and not _movable(bodies, a) and not _movable(bodies, b)
@@ -162,7 +162,7 @@ def warm_from_sleep(points, n_points, bodies, stored):
     stored.count[0] = kept
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _rest_times(bodies, body, dt):
     """Advance each awake dynamic body's rest time; returns the largest."""
     v, w, extent = bodies.v, bodies.w, bodies.extent
@@ -221,7 +221,7 @@ def fall_asleep(bodies, body, joints, contacts, sleep_time, dt, islands):
         _store_sleeping_points(bodies, contacts)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _store_sleeping_points(bodies, contacts):
     """Move the points of the manifolds whose pair now sleeps into the store (kept sorted by key), and
     close the gaps they leave in the tick's manifolds and points."""
@@ -275,13 +275,13 @@ def _store_sleeping_points(bodies, contacts):
     contacts.count[1] = kept_pts
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _copy_row(source, i, target, j):
     for c in range(source.shape[1]):
         target[j, c] = source[i, c]
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _move_stored(stored, src, dst):
     stored.key[dst] = stored.key[src]
     _copy_row(stored.body, src, stored.body, dst)

@@ -16,6 +16,7 @@ import numpy as np
 from numba import njit
 
 from rustycs.broad_phase import Pairs, fatten, find_pairs, grown_pairs, new_pairs, pairs_hold
+from rustycs.compiling import tick_kernel
 from rustycs.constants import (
     CONTACT_DAMPING_RATIO,
     CONTACT_HERTZ,
@@ -68,7 +69,6 @@ from rustycs.narrow_phase import Contacts, narrow_phase, new_contacts, no_sleepi
 from rustycs.recording import record_frame
 from rustycs.scenario import after_tick, events_bound, has_scenario
 from rustycs.sleep import Islands, fall_asleep, new_islands, wake_reached, warm_from_sleep
-from rustycs.tick_kernel import tick_kernel
 
 
 class Settings(NamedTuple):

@@ -15,9 +15,9 @@ from typing import NamedTuple
 import numpy as np
 
 from rustycs.body_types import DYNAMIC
+from rustycs.compiling import tick_kernel
 from rustycs.constants import AT_REST_ANGULAR_SPEED, AT_REST_SPEED
 from rustycs.events import EVENT_KIND_NAMES, involves
-from rustycs.tick_kernel import tick_kernel
 
 AT_REST, EVENT, INSIDE = range(3)
 CONDITION_NAMES = ("at_rest", "event", "inside")

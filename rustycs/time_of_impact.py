@@ -25,6 +25,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from rustycs.compiling import inlined
 from rustycs.geometry import Geometry, new_geometry, place_piece
 from rustycs.pieces import MAX_VERTICES
 
@@ -47,7 +48,7 @@ def new_sweep():
                  new_geometry(2, 2, MAX_VERTICES))
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _point_segment(px, py, ax, ay, bx, by):
     """The point of segment a b closest to p, and its squared distance from p."""
     ex, ey = bx - ax, by - ay
@@ -59,7 +60,7 @@ def _point_segment(px, py, ax, ay, bx, by):
     return cx, cy, (px - cx) * (px - cx) + (py - cy) * (py - cy)
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _core_vertex(geometry, row, count, k):
     """Vertex k of a placed core: a circle's core is its centre."""
     if count == 0:
@@ -67,7 +68,7 @@ def _core_vertex(geometry, row, count, k):
     return geometry.vertices[row, k, 0], geometry.vertices[row, k, 1]
 
 
-@njit(cache=True, inline="always")
+@inlined
 def _nearest(geometry, row, count, other, other_count, best, ax, ay, bx, by, flip):
     """The closest points of the vertices of core `row` to the edges (or the one vertex) of core
     `other`, improving on squared distance `best` with points a (on row 0) and b (on row 1)."""
@@ -93,7 +94,7 @@ def _nearest(geometry, row, count, other, other_count, best, ax, ay, bx, by, fli
     return best, ax, ay, bx, by
 
 
-@njit(cache=True, inline="always")
+@inlined
 def core_distance(sweep):
     """Distance between the placed cores of rows 0 and 1 (apart: every pair the sweep places is), and
     their closest points. Convex cores that do not overlap are closest between a vertex of one and an
@@ -117,14 +118,14 @@ class Motion(NamedTuple):
     extent: float
 
 
-@njit(cache=True, inline="always")
+@inlined
 def motion_now(bodies, i):
     """Body i as it moves at the start of a tick."""
     x, v = bodies.x, bodies.v
     return Motion(x[i, 0], x[i, 1], bodies.angle[i], v[i, 0], v[i, 1], bodies.w[i], bodies.extent[i])
 
 
-@njit(cache=True, inline="always")
+@inlined
 def place_pair(shapes, sa, sb, motion_a, motion_b, t, sweep):
     """Place shapes sa and sb into the sweep's rows 0 and 1 where their bodies' motions take them after t
     seconds."""
@@ -139,7 +140,7 @@ def place_pair(shapes, sa, sb, motion_a, motion_b, t, sweep):
         sweep.open_ends[row] = shapes.open_ends[j]
 
 
-@njit(cache=True, inline="always")
+@inlined
 def time_of_impact(shapes, sa, sb, motion_a, motion_b, duration, reach, sweep):
     """The first time in [0, duration] at which shapes sa and sb come within `reach` of touching, their
     bodies moving as `motion_a` and `motion_b` say; -1 when they do not. The sweep's rows hold the pieces
