@@ -106,7 +106,7 @@ def ensure_fresh() -> None:
 def compile_needed() -> bool:
     """True when the compiled kernels are not yet cached (the first step will compile)."""
     ensure_fresh()
-    return not any(glob.glob(os.path.join(d, "**", "step.run_ticks-*.nbi"), recursive=True)
+    return not any(glob.glob(os.path.join(d, "**", "step.step_world-*.nbi"), recursive=True)
                    for d in _cache_dirs())
 
 

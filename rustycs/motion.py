@@ -25,9 +25,11 @@ def damping_factors(bodies, dt, decay):
     linear, angular = bodies.linear_damping, bodies.angular_damping
     damped = False
     for i in range(linear.shape[0]):
-        decay[i, 0] = math.exp(-linear[i] * dt)
-        decay[i, 1] = math.exp(-angular[i] * dt)
         damped = damped or linear[i] != 0.0 or angular[i] != 0.0
+    if damped:  # else no factor is read: two exponentials a body were a tenth of a 5-body world's step(1)
+        for i in range(linear.shape[0]):
+            decay[i, 0] = math.exp(-linear[i] * dt)
+            decay[i, 1] = math.exp(-angular[i] * dt)
     return damped
 
 

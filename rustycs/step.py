@@ -69,6 +69,7 @@ from rustycs.narrow_phase import Contacts, narrow_phase, new_contacts, no_sleepi
 from rustycs.recording import record_frame
 from rustycs.scenario import after_tick, events_bound, has_scenario
 from rustycs.sleep import Islands, fall_asleep, new_islands, wake_reached, warm_from_sleep
+from rustycs.stepper import ESCAPED_TOTAL, TICK, borrowed
 
 
 class Settings(NamedTuple):
@@ -167,7 +168,7 @@ def substeps(batches, n_chunks, lanes, body, bodies, joints, joint_work, joint_s
         solve(batches, n_chunks, lanes, body, 1.0 / h, False)
 
 
-# entries of a block's status (`run_ticks`): ticks done, frames recorded, bodies that left the bounds,
+# entries of a block's status (`step_world`): ticks done, frames recorded, bodies that left the bounds,
 # the first body whose state became non-finite (-1: none), what a buffer must hold to go on, and the
 # stop condition that ended the block (-1: none)
 TICKS_DONE, FRAMES, ESCAPED, BAD_BODY, NEED_CELLS, NEED_PAIRS, NEED_CHUNKS, NEED_EVENTS, STOPPED = range(9)
@@ -175,30 +176,39 @@ STATUS_FIELDS = 9
 
 
 @njit(cache=True, nogil=True, _nrt=False)
-def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, ws, scenario, first_tick,
-              every, frames, status):
-    """Advance until `n_ticks` ticks are done in place (counted in `status`), a state becomes non-finite,
-    a stop condition of the scenario holds (its frame recorded), or a buffer of `ws` is too small: then
-    the tick stops before it changed any state, with the sizes it needs in `status`: `grow` the
-    workspace and call again with the same status to go on.
+def step_world(stepper, n_ticks, every):
+    """Run `n_ticks` ticks of the world a stepper holds (`rustycs.stepper`), until they are done, a state
+    becomes non-finite or a stop condition of the scenario holds (its frame recorded); returns whether the
+    workspace was replaced. A tick that needs larger buffers stops before it changed any state, with the
+    sizes it needs in the status: the workspace is grown (`grown`) and the tick starts again.
 
-    With `every` > 0, a frame (`recording.record_frame`) is written into `frames` after every `every`-th
-    tick of the block and after its last; ticks are numbered from `first_tick`. `scenario`
-    (`rustycs.scenario.Scenario`) makes bodies appear and vanish, senses, measures and may stop the block
-    early. In `status` (`new_status`) BAD_BODY is -1 or the first body whose state became non-finite in
-    the tick after TICKS_DONE; STOPPED is -1 or the stop condition that held after tick TICKS_DONE.
+    With `every` > 0, a frame (`recording.record_frame`) is written into the stepper's frames after every
+    `every`-th tick of the block and after its last. The scenario (`rustycs.scenario.Scenario`) makes bodies
+    appear and vanish, senses, measures and may stop the block early. In the status (`new_status`)
+    BAD_BODY is -1 or the first body whose state became non-finite in the tick after TICKS_DONE; STOPPED is
+    -1 or the stop condition that held after tick TICKS_DONE. The stepper's clock counts the ticks done
+    (and the failing one) and the bodies escaped.
 
-    Called from Python: it releases the GIL (independent worlds step in parallel threads) and returns
-    nothing (boxing the workspace back on every call cost 80 unpicklings). Compiled without reference
+    Called from Python: it releases the GIL (independent worlds step in parallel threads) and returns no
+    records (boxing the workspace back on every call cost 80 unpicklings). Compiled without reference
     counting, like every stage it calls: a tick passes the records to a dozen stages, and counting
-    references to their arrays cost a third of a five-body tick. No compiled wrapper around it: the same
-    loop inlined into one, loaded from numba's disk cache, took 2.3 us a tick of the five-body bench
-    scene instead of 1.45.
+    references to their arrays cost a third of a five-body tick. The loop is written here, not called: a
+    compiled function calling another passes every array of its records by value (7 to 9 words each,
+    about 1,800 words for a world), and each level of calls compiles its callees' code once more.
     """
-    status[NEED_CELLS] = 0
-    status[NEED_PAIRS] = 0
-    status[NEED_CHUNKS] = 0
-    status[NEED_EVENTS] = 0
+    if n_ticks <= 0:  # a call that loads the kernel changes nothing
+        return False
+    fields = borrowed(stepper)
+    bodies, shapes, joints, joint_filter = fields.bodies, fields.shapes, fields.joints, fields.joint_filter
+    forces, settings, scenario, frames = fields.forces, fields.settings, fields.scenario, fields.frames
+    status, clock, ws = fields.status, fields.clock, fields.workspace
+    for k in range(STATUS_FIELDS):
+        status[k] = 0
+    status[BAD_BODY] = -1
+    status[STOPPED] = -1
+    ws.events.count[0] = 0  # the last block's events were taken
+    replaced = False
+    first_tick = clock[TICK]
     dt = settings.dt
     h = dt / settings.substeps
     contact_hertz = min(CONTACT_HERTZ, 0.25 / h)
@@ -208,8 +218,7 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
     # rocked ever more and fell after 3.4 s at 4 substeps (capped: at rest for 10 s, to 4e-6 rad)
     stiff = softness(min(2.0 * contact_hertz, 0.25 / h), CONTACT_DAMPING_RATIO, h)
     joint_soft = softness(JOINT_STIFFNESS / h, JOINT_DAMPING_RATIO, h)
-    (geometry, pairs, contacts, cache, body, batches, lanes, decay, bounce_velocity, held_back, joint_work,
-     events, statics_placed, touching, islands) = ws
+    decay, joint_work = ws.decay, ws.joint_work  # kept when the workspace grows
     damped = damping_factors(bodies, dt, decay)
     prepare_block(joints, h, joint_work)
     breaking = breakable(joints)
@@ -217,8 +226,15 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
     bad = first_non_finite(bodies)
     if bad >= 0:  # set from outside between blocks: report it before it spreads
         status[BAD_BODY] = bad
-        return
-    while status[TICKS_DONE] < n_ticks:
+    while status[BAD_BODY] < 0 and status[TICKS_DONE] < n_ticks:
+        if max(status[NEED_CELLS], status[NEED_PAIRS], status[NEED_CHUNKS], status[NEED_EVENTS]) > 0:
+            _grow(stepper)
+            ws = borrowed(stepper).workspace
+            replaced = True
+            for k in (NEED_CELLS, NEED_PAIRS, NEED_CHUNKS, NEED_EVENTS):
+                status[k] = 0
+        (geometry, pairs, contacts, cache, body, batches, lanes, decay, bounce_velocity, held_back,
+         joint_work, events, statics_placed, touching, islands) = ws
         update_geometry(bodies, shapes, SPECULATIVE_DISTANCE, dt, not statics_placed[0], geometry)
         statics_placed[0] = True
         if not pairs_hold(bodies, shapes, geometry, pairs):
@@ -228,12 +244,12 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
                 pairs.count[0] = -1  # find them again
                 status[NEED_CELLS] = n_entries
                 status[NEED_PAIRS] = n_pairs
-                return
+                continue
             pairs.count[0] = n_pairs
         n_pairs = pairs.count[0]
         if n_pairs > contacts.manifolds.first.shape[0] or 2 * n_pairs > cache.key.shape[0]:
             status[NEED_PAIRS] = n_pairs
-            return
+            continue
         if settings.sleep:
             wake_reached(pairs.keys, n_pairs, bodies, shapes, geometry, joints, contacts,
                          SPECULATIVE_DISTANCE, islands)
@@ -243,7 +259,7 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
                                               joints.kind.shape[0], n_man, touching.count[0])
         if room > events.tick.shape[0]:
             status[NEED_EVENTS] = room
-            return
+            continue
         first_event = events.count[0]
         tick = first_tick + status[TICKS_DONE] + 1
         warm_start_points(contacts.points, n_pts, cache)
@@ -256,7 +272,7 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
         n_chunks = schedule(contacts.manifolds, n_man, body, batches)
         if n_chunks * LANES * LANE_FIELDS > lanes.shape[0]:
             status[NEED_CHUNKS] = n_chunks
-            return
+            continue
         bouncy = prepare(batches, n_chunks, contacts.manifolds, contacts.points, shapes.radius, body, soft,
                          stiff, lanes)
         if bouncy > 0:
@@ -288,7 +304,7 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
         bad = first_non_finite(bodies)
         if bad >= 0:
             status[BAD_BODY] = bad
-            return
+            break
         if settings.has_bounds:
             status[ESCAPED] += apply_bounds(bodies, settings.bounds, tick, events)
         if scripted:
@@ -302,7 +318,27 @@ def run_ticks(n_ticks, bodies, shapes, joints, joint_filter, forces, settings, w
             record_frame(frames, status[FRAMES], first_tick + done, bodies, joints, forces, contacts)
             status[FRAMES] += 1
         if stopped:
-            return
+            break
+    clock[TICK] += status[TICKS_DONE] + (1 if status[BAD_BODY] >= 0 else 0)
+    clock[ESCAPED_TOTAL] += status[ESCAPED]
+    return replaced
+
+
+@njit(cache=True, _nrt=True)  # set, not inherited from `step_world`: it makes arrays
+def _grow(stepper):
+    """Replace the stepper's workspace with one holding what its status says the stopped tick needs."""
+    status = stepper.status
+    stepper.workspace = grown(stepper.workspace, stepper.bodies.x.shape[0], status[NEED_CELLS],
+                              status[NEED_PAIRS], 2 * status[NEED_PAIRS], status[NEED_CHUNKS],
+                              status[NEED_EVENTS])
+
+
+@njit(cache=True, nogil=True)  # a typed list's items are reference counted
+def step_worlds(steppers, first, last, n_ticks, every, replaced):
+    """`step_world` for steppers first .. last - 1 of a list; `replaced[i]` says whether world i's
+    workspace was replaced. Releases the GIL, so that threads step parts of a list."""
+    for i in range(first, last):
+        replaced[i] = step_world(steppers[i], n_ticks, every)
 
 
 def new_status() -> np.ndarray:
@@ -311,9 +347,3 @@ def new_status() -> np.ndarray:
     status[BAD_BODY] = -1
     status[STOPPED] = -1
     return status
-
-
-def grow(ws: Workspace, n_bodies: int, status: np.ndarray) -> Workspace:
-    """The workspace with the buffers a stopped block needs (`status`) grown."""
-    return grown(ws, n_bodies, status[NEED_CELLS], status[NEED_PAIRS], 2 * status[NEED_PAIRS],
-                 status[NEED_CHUNKS], status[NEED_EVENTS])

@@ -22,18 +22,8 @@ from rustycs.queries import WorldQueries
 from rustycs.recording import check_frame_buffer, frame_buffer
 from rustycs.shapes import Box, Capsule, Chain, Circle, Polygon, Segment, Shape, type_name
 from rustycs.state import BODY_COLUMNS, SHAPE_COLUMNS, Bodies, Shapes, Table
-from rustycs.step import (
-    BAD_BODY,
-    ESCAPED,
-    FRAMES,
-    STOPPED,
-    TICKS_DONE,
-    Settings,
-    grow,
-    new_status,
-    new_workspace,
-    run_ticks,
-)
+from rustycs.step import BAD_BODY, FRAMES, STOPPED, Settings, new_status, new_workspace, step_world
+from rustycs.stepper import CLOCK_FIELDS, ESCAPED_TOTAL, TICK, new_stepper, workspace_of
 from rustycs.world_scenario import WorldScenario
 
 _BODY_TYPES = {name: code for code, name in enumerate(BODY_TYPE_NAMES)}
@@ -55,6 +45,17 @@ def _material(material: Material | str) -> Material:
     if material not in MATERIALS:
         raise ValueError(f"unknown material {material!r}; presets: {', '.join(MATERIALS)}")
     return MATERIALS[material]
+
+
+def _step_setting(name: str, doc: str) -> property:
+    """A setting of the step, which takes effect from the next step on (the stepper is made again)."""
+    private = "_" + name
+
+    def set_value(world, value) -> None:
+        setattr(world, private, value)
+        world._stepper_frames = None
+
+    return property(lambda world: getattr(world, private), set_value, doc=doc)
 
 
 class KernelInputs(NamedTuple):
@@ -103,8 +104,7 @@ class World(BodyControl, WorldQueries, WorldScenario):
             raise ValueError("sleep_time must be finite and > 0")
         self._sleep = bool(sleep)
         self.sleep_time = float(sleep_time)
-        self.tick = 0
-        self.escaped_count = 0
+        self._clock = np.zeros(CLOCK_FIELDS, np.int64)  # ticks done, bodies escaped (`rustycs.stepper`)
         self._gravity = np.zeros(2)
         self._attractors: list[dict] = []
         self._bodies = Table(Bodies, BODY_COLUMNS)
@@ -118,11 +118,43 @@ class World(BodyControl, WorldQueries, WorldScenario):
         # the step's buffers, kept from block to block (rebuilt when bodies are added)
         self._workspace = None
         self._contact_rows = None  # the last tick's contact points, built from the workspace when asked
+        self._contact_rows_tick = -1  # the tick they are of
         self._no_frames = tuple(frame_buffer(0, 0, 0).values())  # the step's frames when none are recorded
         self._checked_record: tuple = (None, ())  # the last frame buffer checked, and its arrays
-        self._entry = None  # (the kernel inputs, the step's compiled entry for their types)
+        self._status = new_status()  # of the last block (`rustycs.step`)
+        # the step's records, buffers and frames in one object (`rustycs.stepper`), made again when the
+        # world's make-up (`_inputs` None), its settings, its buffers (`_workspace` None) or the frames change
+        self._stepper = None
+        self._stepper_frames = None
+        self._entry = None  # step_world's compiled entry for the stepper's type
         self._settings_for = None  # (the kernel inputs, the settings' values, the Settings record)
         self._init_scenario()
+
+    dt = _step_setting("dt", "Seconds per tick.")
+    precision = _step_setting("precision", "Solver substeps per tick.")
+    restitution_threshold = _step_setting("restitution_threshold", "m/s: slower approaches do not bounce.")
+    bounds = _step_setting("bounds", "((xmin, ymin), (xmax, ymax)): dynamic bodies leaving them are "
+                                     "deactivated; None: no bounds.")
+    sleep_time = _step_setting("sleep_time", "Seconds an island rests before it sleeps.")
+    contact_events = _step_setting("contact_events", "Whether contact_begin and contact_end events are "
+                                                     "recorded (also on when a measure or stop condition "
+                                                     "watches contacts).")
+
+    @property
+    def tick(self) -> int:
+        """Ticks done since the world was made."""
+        return int(self._clock[TICK])
+
+    @property
+    def escaped_count(self) -> int:
+        """Bodies deactivated for leaving the bounds since the world was made."""
+        return int(self._clock[ESCAPED_TOTAL])
+
+    @property
+    def stop_condition(self) -> int | None:
+        """The stop condition that ended the last `step`, if any (`add_stop_condition`)."""
+        stopped = int(self._status[STOPPED])
+        return stopped if stopped >= 0 else None
 
     @property
     def body_count(self) -> int:
@@ -143,7 +175,7 @@ class World(BodyControl, WorldQueries, WorldScenario):
         """Add a constant acceleration felt by every dynamic body (gravity, wind), times its gravity
         scale."""
         self._gravity = self._gravity + np.asarray(acceleration, dtype=np.float64)
-        self._inputs = None
+        self._remake()
         self.wake()  # a change of the forces reaches every body
 
     def add_attractor(self, position, mass: float, range: float | None = None,
@@ -151,7 +183,7 @@ class World(BodyControl, WorldQueries, WorldScenario):
         """Add a fixed point pulling dynamic bodies; `range` None makes it global."""
         if not min_distance > 0:
             raise ValueError("min_distance must be > 0")
-        self._inputs = None
+        self._remake()
         self.wake()
         self._attractors.append(dict(position=np.asarray(position, dtype=np.float64), mass=float(mass),
                                      range=np.inf if range is None else float(range),
@@ -401,10 +433,15 @@ class World(BodyControl, WorldQueries, WorldScenario):
         self._joints.columns["joint_1"][row], self._joints.columns["joint_2"][row] = joint_1, joint_2
         return row
 
+    def _remake(self) -> None:
+        """The world's records changed: the kernels' records and the stepper are made again."""
+        self._inputs = None
+        self._stepper_frames = None
+
     def _changed(self) -> None:
         """The world's make-up changed: the kernels' inputs and the step's buffers are made again (the
         warm-start cache carries over)."""
-        self._inputs = None
+        self._remake()
         if self._workspace is not None:
             self._last_contacts()
             self._workspace = None
@@ -482,10 +519,14 @@ class World(BodyControl, WorldQueries, WorldScenario):
                                         self._scenario(bodies, shapes))
         return self._inputs
 
+    def _settings_key(self) -> tuple:
+        """What the step's settings are made of (a user may change any of it between steps)."""
+        return (self.dt, self.precision, self.restitution_threshold, self.bounds, self.contact_events,
+                self.sleep_time)
+
     def _settings(self, inputs: KernelInputs) -> Settings:
         """How the world steps, made again only when a setting or the world's make-up changed."""
-        key = (self.dt, self.precision, self.restitution_threshold, self.bounds, self.contact_events,
-               self.sleep_time)
+        key = self._settings_key()
         if self._settings_for is None or self._settings_for[0] is not inputs or self._settings_for[1] != key:
             bounds = np.zeros(4) if self.bounds is None else np.array([*self.bounds[0], *self.bounds[1]])
             settings = Settings(self.dt, self.precision, self.restitution_threshold, bounds,
@@ -509,34 +550,31 @@ class World(BodyControl, WorldQueries, WorldScenario):
             frames = self._no_frames
         else:
             frames = self._frames(record, -(-n // every))
-        inputs, entry = self._prepared()
-        status, settings = new_status(), self._settings(inputs)
-        self._workspace.events.count[0] = 0  # the last call's events were taken
-        while True:
-            entry(n, inputs.bodies, inputs.shapes, inputs.joints, inputs.joint_filter, inputs.forces,
-                  settings, self._workspace, inputs.scenario, self.tick, every, frames, status)
-            if status[BAD_BODY] >= 0 or status[STOPPED] >= 0 or status[TICKS_DONE] == n:
-                break
-            self._workspace = grow(self._workspace, self.body_count, status)
-        self._contact_rows = None
-        self.stop_condition = int(status[STOPPED]) if status[STOPPED] >= 0 else None
-        self.escaped_count += int(status[ESCAPED])
-        done, recorded, bad = int(status[TICKS_DONE]), int(status[FRAMES]), int(status[BAD_BODY])
-        if bad >= 0:
-            self.tick += done + 1
-            raise SimulationDiverged(self.tick, bad, f"non-finite state in tick {self.tick} at body {bad}",
-                                     recorded)
-        self.tick += done
-        return recorded
+        if frames is not self._stepper_frames:  # else the stepper holds the world as it is
+            self._prepare(frames)
+        if self._entry(self._stepper, n, every):
+            self._workspace_replaced()
+        if self._status[BAD_BODY] >= 0:
+            self._diverged()
+        return int(self._status[FRAMES])
+
+    def _workspace_replaced(self) -> None:
+        """Take the workspace the step grew (boxing it back costs about 80 us: only when it was replaced)."""
+        self._workspace = workspace_of(self._stepper)
+
+    def _diverged(self) -> None:
+        body = int(self._status[BAD_BODY])
+        raise SimulationDiverged(self.tick, body, f"non-finite state in tick {self.tick} at body {body}",
+                                 int(self._status[FRAMES]))
 
     def prepare(self) -> None:
         """Make what stepping needs now instead of in the next `step`: the kernels' records, the step's
         buffers and its compiled entry (loaded, or compiled on first use), so that a timed step does no
         setup (0.9 ms of a five-body world's first block of 100 ticks). Nothing of the state changes."""
-        self._prepared()
+        self._prepare(self._no_frames)
 
-    def _prepared(self):
-        """The kernels' inputs and the step's compiled entry for their types, made as needed."""
+    def _prepare(self, frames: tuple) -> None:
+        """Make the stepper for the world as it is and these frames, and the step's compiled entry."""
         inputs = self._kernel_inputs()
         if self._workspace is None:
             last = self._last_contacts()
@@ -544,13 +582,12 @@ class World(BodyControl, WorldQueries, WorldScenario):
                                             MAX_VERTICES, last.key, last.normal_impulse, last.tangent_impulse,
                                             self.sleep)
         self._fold_initial(inputs)
-        if self._entry is None or self._entry[0] is not inputs:
-            # zero ticks through numba's dispatcher, once per make-up of the world: it loads the kernel
-            args = (0, *inputs[:5], self._settings(inputs), self._workspace, inputs.scenario, self.tick, 0,
-                    self._no_frames, new_status())
-            run_ticks(*args)
-            self._entry = inputs, compiled_entry(run_ticks, args)
-        return inputs, self._entry[1]
+        self._stepper = new_stepper(*inputs[:5], self._settings(inputs), self._workspace, inputs.scenario,
+                                    frames, self._status, self._clock)
+        self._stepper_frames = frames
+        # zero ticks through numba's dispatcher: it loads (or compiles) the kernel; then its entry
+        step_world(self._stepper, 0, 0)
+        self._entry = compiled_entry(step_world, (self._stepper, 0, 0))
 
     def _frames(self, record: dict[str, np.ndarray], needed: int) -> tuple:
         """A frame buffer's arrays as the step writes them, once checked to be one of this world's with
@@ -563,10 +600,9 @@ class World(BodyControl, WorldQueries, WorldScenario):
         return self._checked_record[1]
 
     def load_kernels(self) -> None:
-        """Step once and load (or compile) the kernel that grows the step's buffers too, so that a timed
-        step loads none: loaded inside the first block of the 210-box pyramid, it took 31 of its 45 ms."""
+        """Step once, so that a timed step loads no kernel (the step's entry grows its buffers itself: the
+        growth kernel, loaded inside the first block of the 210-box pyramid, took 31 of its 45 ms)."""
         self.step(1)
-        self._workspace = grow(self._workspace, self.body_count, new_status())
 
     def frame_buffer(self, capacity: int) -> dict[str, np.ndarray]:
         """An empty buffer for `capacity` frames of this world (see `step` and `capture`)."""
@@ -675,10 +711,11 @@ class World(BodyControl, WorldQueries, WorldScenario):
 
     def _last_contacts(self):
         """The last tick's contact points as named columns (`narrow_phase.ContactRows`)."""
-        if self._contact_rows is None:
+        if self._contact_rows is None or self._contact_rows_tick != self.tick:
             from rustycs.narrow_phase import contact_rows
 
             self._contact_rows = contact_rows(self._contacts_record())
+            self._contact_rows_tick = self.tick
         return self._contact_rows
 
     def contacts(self) -> dict:

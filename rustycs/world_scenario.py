@@ -22,9 +22,7 @@ class WorldScenario:
     """Sinks, measures and stop conditions of a World, and when its bodies appear and go."""
 
     def _init_scenario(self) -> None:
-        self.contact_events = False  # record contact_begin and contact_end events (also on when a
-        # measure or stop condition needs them)
-        self.stop_condition: int | None = None  # the stop condition that ended the last `step`, if any
+        self.contact_events = False
         self._spawn_tick: list[int] = []
         self._remove_tick: list[int] = []
         self._if_free: list[bool] = []
@@ -83,7 +81,7 @@ class WorldScenario:
     def _scenario_changed(self) -> None:
         if self.tick > 0:
             raise ValueError("sinks, measures and stop conditions are added before the first step")
-        self._inputs = None
+        self._remake()
         self._measured = None
 
     @property

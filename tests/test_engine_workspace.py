@@ -56,14 +56,15 @@ def test_adding_a_body_keeps_the_warm_start_and_the_stack_at_rest():
     assert np.abs(world.velocities[1:6]).max() < 1e-3
 
 
-def test_load_kernels_steps_once_and_loads_the_growth_of_the_buffers_too():
+def test_load_kernels_steps_once_with_the_entry_that_grows_the_buffers_too():
     """A timed step must load no kernel: the growth kernel, loaded inside the first block of the 210-box
-    pyramid, took 31 of its 45 ms. After `load_kernels` it is loaded and stepping goes on unchanged."""
-    from rustycs.step import grown
+    pyramid, took 31 of its 45 ms. The step's entry grows the buffers itself; after `load_kernels` it is
+    loaded and stepping goes on unchanged."""
+    from rustycs.step import step_world
 
     loaded, plain = crowd(), crowd()
     loaded.load_kernels()
-    assert loaded.tick == 1 and len(grown.signatures) >= 1
+    assert loaded.tick == 1 and len(step_world.signatures) >= 1
     loaded.step(29)
     plain.step(30)
     assert state(loaded) == state(plain)
