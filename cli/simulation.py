@@ -59,13 +59,15 @@ def load_source(path: str | Path, overrides: tuple[str, ...] = (), seed: int | N
 
 def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: int | None = None,
               contacts: bool | None = None, progress: bool = False, *, compress: bool = False,
-              quiet: bool = False, started: float | None = None, allow_full_disk: bool = False) -> RunResult:
+              quiet: bool = False, started: float | None = None, allow_full_disk: bool = False,
+              threads: int = 1) -> RunResult:
     """Simulate `loaded` and write the trajectory to `out` and the summary next to it.
 
     ticks, every and contacts default to the scene's; `progress` shows a bar on stderr; `quiet`
     silences the one-line compilation notice; `started` (time.perf_counter) is when the command
     began, for the summary's wall time. A run that would not fit on the disk is refused unless
-    `allow_full_disk`; a disk that fills up anyway ends the run with one message and no file.
+    `allow_full_disk`; a disk that fills up anyway ends the run with one message and no file. `threads`
+    are the world's (`rustycs.World.threads`).
     """
     import rustycs
 
@@ -101,6 +103,7 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
         for stale in stale_temporaries(out.parent, of=out.name):  # killed runs of this output
             stale.unlink(missing_ok=True)
         world = build_world(scene, plan)
+        world.threads = threads
         attach(world, plan, contact_events=scene.output.events)
         if not allow_full_disk:
             check_free_space(out, estimated_bytes(world.body_count, ticks, every))

@@ -36,6 +36,12 @@ def inlined(function):
     return njit(cache=True, forceinline=True, _nrt=False)(function)
 
 
+def parallel_kernel(function):
+    """Compile `function` (cached on disk) without reference counting, its `prange` loops run by numba's
+    threads (`rustycs.threads`)."""
+    return njit(cache=True, parallel=True, _nrt=False)(function)
+
+
 def inlined_early(function):
     """Compile `function` into each caller's own code before LLVM optimises it (numba's inlining)."""
     return njit(cache=True, inline="always")(function)

@@ -24,7 +24,7 @@ import numpy as np
 from numba import njit
 
 from rustycs.body_types import DYNAMIC
-from rustycs.compiling import inlined_early, tick_kernel
+from rustycs.compiling import inlined, inlined_early, tick_kernel
 from rustycs.constants import MAX_PUSH_SPEED
 from rustycs.narrow_phase import (
     FRICTION,
@@ -147,13 +147,19 @@ def prepare(batches, n_chunks, manifolds, points, radius, body, soft, stiff, lan
     is nearest, whichever way the shape has turned. With the radius turned too, a ball glancing off a
     wall at 167 m/s, spun up to 800 rad/s by friction, turned its anchor away from the wall and went
     through it."""
+    return prepare_chunks(0, n_chunks, batches, manifolds, points, radius, body, soft, stiff, lanes)
+
+
+@inlined
+def prepare_chunks(start, stop, batches, manifolds, points, radius, body, soft, stiff, lanes):
+    """`prepare` for chunks start .. stop - 1 (each chunk's lanes depend on its own contacts alone)."""
     fill, slot_manifold = batches.fill, batches.slot_manifold
     m_a, m_b, manifold = manifolds.body_a, manifolds.body_b, manifolds.data
     shape_a, shape_b = manifolds.shape_a, manifolds.shape_b
     m_first, m_count = manifolds.first, manifolds.count
     point = points.data
     bouncy = 0
-    for c in range(n_chunks):
+    for c in range(start, stop):
         for j in range(fill[c], LANES):
             _zero(lanes, lane_index(c, j), LANE_FIELDS)
         for j in range(fill[c]):

@@ -15,6 +15,8 @@ RESTITUTION_THRESHOLD = 1.0  # m/s: contacts approaching slower do not bounce (B
 MIN_DISTANCE = 0.01  # m: an attractor's softening, d is taken as max(d, min_distance)
 SLEEP = False  # islands at rest sleep (off: results are those of a world that never sleeps)
 SLEEP_TIME = 0.5  # s an island rests before it sleeps (Box2D's b2_timeToSleep)
+THREADS = 1  # threads inside one world (`rustycs.threads`)
+MAX_THREADS = 256
 
 # Bodies
 BODY_TYPE = "dynamic"

@@ -75,12 +75,18 @@ def update_geometry(bodies, shapes, margin, dt, statics, geometry):
     """Place every shape of the active bodies awake (of static ones too when `statics`), and grow each
     hitbox by its body's reach: the margin plus the farthest its shapes' cores travel in a tick
     (|v| + |w| extent)."""
+    place_bodies(0, bodies.x.shape[0], bodies, shapes, margin, dt, statics, geometry)
+
+
+@inlined
+def place_bodies(start, stop, bodies, shapes, margin, dt, statics, geometry):
+    """`update_geometry` for bodies start .. stop - 1 (each body's shapes depend on that body alone)."""
     x, angle, v, w, extent, active, body_type, first, count, asleep = (
         bodies.x, bodies.angle, bodies.v, bodies.w, bodies.extent, bodies.active, bodies.body_type,
         bodies.first_shape, bodies.shape_count, bodies.asleep)
     n_verts, local_centroid, radius = shapes.count, shapes.centroid, shapes.radius
     centroid, hitbox, reach = geometry.centroid, geometry.hitbox, geometry.reach
-    for i in range(x.shape[0]):
+    for i in range(start, stop):
         if not active[i] or asleep[i] or (body_type[i] == STATIC and not statics):
             continue  # an asleep body's geometry is that of its pose, which it keeps
         px, py = x[i, 0], x[i, 1]

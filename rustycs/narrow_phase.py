@@ -202,15 +202,29 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, sleep
     With `sleeping` (a world that sleeps), the pairs of bodies asleep are passed over: their points are
     in the store (`rustycs.sleep`).
     """
+    n_man, n_pts = collide_pairs(0, n_pairs, 0, 0, pair_keys, bodies, shapes, geometry, margin, dt, sleeping,
+                                 contacts, contacts.collision, contacts.sweep)
+    contacts.count[0] = n_man
+    contacts.count[1] = n_pts
+    return n_man, n_pts
+
+
+@inlined
+def collide_pairs(start, stop, m_start, p_start, pair_keys, bodies, shapes, geometry, margin, dt, sleeping,
+                  contacts, out, sweep):
+    """The manifolds of candidate pairs start .. stop - 1 (`narrow_phase`), written from manifold row
+    `m_start` and point row `p_start` on, with `out` and `sweep` as scratch; returns the manifolds and
+    points written. Each pair's are computed from that pair alone, so that ranges may be collided apart
+    (`rustycs.threads`) and joined in pair order."""
     m_shape_a, m_shape_b, m_body_a, m_body_b, m_first, m_count, m_data = contacts.manifolds
     p_key, p_position, p_data = contacts.points
-    out, sweep, paired = contacts.collision, contacts.sweep, contacts.paired
+    paired = contacts.paired
     x, v, w, extent, asleep = bodies.x, bodies.v, bodies.w, bodies.extent, bodies.asleep
     body, hitbox, reach = shapes.body, geometry.hitbox, geometry.reach
     friction, restitution, radius = shapes.friction, shapes.restitution, shapes.radius
-    n_man = 0
-    n_pts = 0
-    for k in range(n_pairs):
+    n_man = m_start
+    n_pts = p_start
+    for k in range(start, stop):
         sa = pair_keys[k] >> SHAPE_BITS
         sb = pair_keys[k] & SHAPE_MASK
         paired[k] = False
@@ -287,9 +301,7 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, sleep
             p_data[n_pts, NORMAL_IMPULSE] = 0.0
             p_data[n_pts, TANGENT_IMPULSE] = 0.0
             n_pts += 1
-    contacts.count[0] = n_man
-    contacts.count[1] = n_pts
-    return n_man, n_pts
+    return n_man - m_start, n_pts - p_start
 
 
 class ContactRows(NamedTuple):

@@ -70,6 +70,16 @@ from rustycs.recording import record_frame
 from rustycs.scenario import after_tick, events_bound, has_scenario
 from rustycs.sleep import Islands, fall_asleep, new_islands, wake_reached, warm_from_sleep
 from rustycs.stepper import ESCAPED_TOTAL, TICK, borrowed
+from rustycs.threads import (
+    BODY_PART,
+    CHUNK_PART,
+    PAIR_PART,
+    ThreadScratch,
+    collide_pairs_in_parts,
+    new_thread_scratch,
+    place_bodies_in_parts,
+    prepare_in_parts,
+)
 
 
 class Settings(NamedTuple):
@@ -83,6 +93,7 @@ class Settings(NamedTuple):
     contact_events: bool  # record contact_begin and contact_end
     sleep: bool  # islands at rest sleep (`rustycs.sleep`)
     sleep_time: float  # s an island rests before it sleeps
+    threads: int  # > 1: the stages that split by element run in parts over threads (`rustycs.threads`)
 
 
 class Workspace(NamedTuple):
@@ -103,12 +114,13 @@ class Workspace(NamedTuple):
     statics_placed: np.ndarray  # bool (1,): the static bodies' geometry is up to date
     touching: Touching  # the shape pairs touching in the last tick (contact events)
     islands: Islands  # scratch of sleeping
+    threads: ThreadScratch  # scratch of the stages run in parts
 
 
 @njit(cache=True)
-def new_workspace(n_bodies, shapes, n_joints, max_vertices, c_key, c_jn, c_jt, sleeps):
+def new_workspace(n_bodies, shapes, n_joints, max_vertices, c_key, c_jn, c_jt, sleeps, threads):
     """Buffers for stepping, with a warm-start cache (keys and impulses) carried over; with `sleeps`, room
-    for the points of islands asleep."""
+    for the points of islands asleep; scratch for `threads` threads."""
     n_shapes = shapes.body.shape[0]
     capacity = max(4 * n_shapes + 16, c_key.shape[0])
     return Workspace(new_geometry(n_bodies, n_shapes, max_vertices), new_pairs(shapes, capacity),
@@ -118,7 +130,8 @@ def new_workspace(n_bodies, shapes, n_joints, max_vertices, c_key, c_jn, c_jt, s
                      np.ones((n_bodies, 2)), np.zeros((n_bodies, BODY_COLUMNS)),
                      np.ones((n_bodies, SCRATCH_COLUMNS)), new_joint_work(n_bodies, n_joints),
                      new_events(events_bound(0, n_bodies, n_joints, capacity, capacity)),  # tick 1 fits
-                     np.zeros(1, np.bool_), new_touching(capacity), new_islands(n_bodies if sleeps else 0))
+                     np.zeros(1, np.bool_), new_touching(capacity), new_islands(n_bodies if sleeps else 0),
+                     new_thread_scratch(threads, capacity))
 
 
 @njit(cache=True)
@@ -129,11 +142,12 @@ def grown(ws, n_bodies, cells, pairs, points, chunks, events):
     p = ws.pairs
     if cells > p.cells.shape[0] or pairs > p.keys.shape[0]:
         p = grown_pairs(p, pairs, cells)
-    contacts, batches, touching = ws.contacts, ws.batches, ws.touching
+    contacts, batches, touching, threads = ws.contacts, ws.batches, ws.touching, ws.threads
     if pairs > contacts.manifolds.first.shape[0]:
         contacts = new_contacts(2 * pairs, contacts.asleep.key.shape[0] > 0, contacts.asleep)
         batches = new_batches(n_bodies, 2 * pairs)
         touching = grown_touching(touching, 2 * pairs)
+        threads = new_thread_scratch(threads.normal.shape[0], 2 * pairs)
     kept = ws.events
     if events > kept.tick.shape[0]:
         kept = grown_events(kept, 2 * events)
@@ -145,7 +159,7 @@ def grown(ws, n_bodies, cells, pairs, points, chunks, events):
     if chunks * LANES * LANE_FIELDS > lanes.shape[0]:
         lanes = np.empty(2 * chunks * LANES * LANE_FIELDS)
     return Workspace(ws.geometry, p, contacts, cache, ws.body, batches, lanes, ws.decay, ws.bounce_velocity,
-                     ws.held_back, ws.joint_work, kept, ws.statics_placed, touching, ws.islands)
+                     ws.held_back, ws.joint_work, kept, ws.statics_placed, touching, ws.islands, threads)
 
 
 @tick_kernel
@@ -222,6 +236,7 @@ def step_world(stepper, n_ticks, every):
     damped = damping_factors(bodies, dt, decay)
     prepare_block(joints, h, joint_work)
     breaking = breakable(joints)
+    threaded = settings.threads > 1
     scripted = has_scenario(scenario)  # a call of `after_tick` with its records was a seventh of S1's tick
     bad = first_non_finite(bodies)
     if bad >= 0:  # set from outside between blocks: report it before it spreads
@@ -234,8 +249,11 @@ def step_world(stepper, n_ticks, every):
             for k in (NEED_CELLS, NEED_PAIRS, NEED_CHUNKS, NEED_EVENTS):
                 status[k] = 0
         (geometry, pairs, contacts, cache, body, batches, lanes, decay, bounce_velocity, held_back,
-         joint_work, events, statics_placed, touching, islands) = ws
-        update_geometry(bodies, shapes, SPECULATIVE_DISTANCE, dt, not statics_placed[0], geometry)
+         joint_work, events, statics_placed, touching, islands, _) = ws
+        if threaded and bodies.x.shape[0] >= 2 * BODY_PART:
+            place_bodies_in_parts(stepper, SPECULATIVE_DISTANCE, dt, not statics_placed[0])
+        else:
+            update_geometry(bodies, shapes, SPECULATIVE_DISTANCE, dt, not statics_placed[0], geometry)
         statics_placed[0] = True
         if not pairs_hold(bodies, shapes, geometry, pairs):
             fatten(bodies, shapes, geometry, pairs)
@@ -253,8 +271,11 @@ def step_world(stepper, n_ticks, every):
         if settings.sleep:
             wake_reached(pairs.keys, n_pairs, bodies, shapes, geometry, joints, contacts,
                          SPECULATIVE_DISTANCE, islands)
-        n_man, n_pts = narrow_phase(pairs.keys, n_pairs, bodies, shapes, geometry, SPECULATIVE_DISTANCE, dt,
-                                    settings.sleep, contacts)
+        if threaded and n_pairs >= 2 * PAIR_PART:
+            n_man, n_pts = collide_pairs_in_parts(stepper, n_pairs, SPECULATIVE_DISTANCE, dt, settings.sleep)
+        else:
+            n_man, n_pts = narrow_phase(pairs.keys, n_pairs, bodies, shapes, geometry, SPECULATIVE_DISTANCE,
+                                        dt, settings.sleep, contacts)
         room = events.count[0] + events_bound(scenario.sensors.body.shape[0], bodies.x.shape[0],
                                               joints.kind.shape[0], n_man, touching.count[0])
         if room > events.tick.shape[0]:
@@ -273,8 +294,11 @@ def step_world(stepper, n_ticks, every):
         if n_chunks * LANES * LANE_FIELDS > lanes.shape[0]:
             status[NEED_CHUNKS] = n_chunks
             continue
-        bouncy = prepare(batches, n_chunks, contacts.manifolds, contacts.points, shapes.radius, body, soft,
-                         stiff, lanes)
+        if threaded and n_chunks >= 2 * CHUNK_PART:
+            bouncy = prepare_in_parts(stepper, n_chunks, *soft, *stiff)
+        else:
+            bouncy = prepare(batches, n_chunks, contacts.manifolds, contacts.points, shapes.radius, body,
+                             soft, stiff, lanes)
         if bouncy > 0:
             keep_velocities(body, bounce_velocity)
         substeps(batches, n_chunks, lanes, body, bodies, joints, joint_work, joint_soft, forces, h,

@@ -6,6 +6,7 @@ import math
 from collections.abc import Sequence
 from typing import NamedTuple
 
+import numba
 import numpy as np
 
 from rustycs import defaults
@@ -88,7 +89,7 @@ class World(BodyControl, WorldQueries, WorldScenario):
     def __init__(self, tick_rate: float = defaults.TICK_RATE, precision: int = defaults.PRECISION,
                  gravitational_constant: float = defaults.GRAVITATIONAL_CONSTANT, bounds=None,
                  restitution_threshold: float = defaults.RESTITUTION_THRESHOLD, sleep: bool = defaults.SLEEP,
-                 sleep_time: float = defaults.SLEEP_TIME):
+                 sleep_time: float = defaults.SLEEP_TIME, threads: int = defaults.THREADS):
         ensure_fresh()  # before any kernel runs: a cache compiled from other sources is dropped
         if not 0 < tick_rate < math.inf:
             raise ValueError("tick_rate must be finite and > 0")
@@ -104,6 +105,7 @@ class World(BodyControl, WorldQueries, WorldScenario):
             raise ValueError("sleep_time must be finite and > 0")
         self._sleep = bool(sleep)
         self.sleep_time = float(sleep_time)
+        self.threads = threads
         self._clock = np.zeros(CLOCK_FIELDS, np.int64)  # ticks done, bodies escaped (`rustycs.stepper`)
         self._gravity = np.zeros(2)
         self._attractors: list[dict] = []
@@ -136,6 +138,20 @@ class World(BodyControl, WorldQueries, WorldScenario):
     bounds = _step_setting("bounds", "((xmin, ymin), (xmax, ymax)): dynamic bodies leaving them are "
                                      "deactivated; None: no bounds.")
     sleep_time = _step_setting("sleep_time", "Seconds an island rests before it sleeps.")
+    @property
+    def threads(self) -> int:
+        """Threads inside the world: with more than one, the stages that split by element (placing shapes,
+        colliding pairs, filling the solver's lanes) run in parts over up to this many threads, with a
+        bitwise equal result for any count (`rustycs.threads`); at most numba's thread count is used."""
+        return self._threads
+
+    @threads.setter
+    def threads(self, value: int) -> None:
+        if not 1 <= int(value) <= defaults.MAX_THREADS:
+            raise ValueError(f"threads must be from 1 to {defaults.MAX_THREADS}")
+        self._threads = int(value)
+        self._stepper_frames = None
+
     contact_events = _step_setting("contact_events", "Whether contact_begin and contact_end events are "
                                                      "recorded (also on when a measure or stop condition "
                                                      "watches contacts).")
@@ -519,19 +535,15 @@ class World(BodyControl, WorldQueries, WorldScenario):
                                         self._scenario(bodies, shapes))
         return self._inputs
 
-    def _settings_key(self) -> tuple:
-        """What the step's settings are made of (a user may change any of it between steps)."""
-        return (self.dt, self.precision, self.restitution_threshold, self.bounds, self.contact_events,
-                self.sleep_time)
-
     def _settings(self, inputs: KernelInputs) -> Settings:
         """How the world steps, made again only when a setting or the world's make-up changed."""
-        key = self._settings_key()
+        key = (self.dt, self.precision, self.restitution_threshold, self.bounds, self.contact_events,
+               self.sleep_time, self.threads)
         if self._settings_for is None or self._settings_for[0] is not inputs or self._settings_for[1] != key:
             bounds = np.zeros(4) if self.bounds is None else np.array([*self.bounds[0], *self.bounds[1]])
             settings = Settings(self.dt, self.precision, self.restitution_threshold, bounds,
                                 self.bounds is not None, self._records_contacts(), self._sleep,
-                                self.sleep_time)
+                                self.sleep_time, self.threads)
             self._settings_for = inputs, key, settings
         return self._settings_for[2]
 
@@ -552,6 +564,8 @@ class World(BodyControl, WorldQueries, WorldScenario):
             frames = self._frames(record, -(-n // every))
         if frames is not self._stepper_frames:  # else the stepper holds the world as it is
             self._prepare(frames)
+        if self._threads > 1:  # numba's thread count is the calling thread's
+            numba.set_num_threads(min(self._threads, numba.config.NUMBA_NUM_THREADS))
         if self._entry(self._stepper, n, every):
             self._workspace_replaced()
         if self._status[BAD_BODY] >= 0:
@@ -580,7 +594,7 @@ class World(BodyControl, WorldQueries, WorldScenario):
             last = self._last_contacts()
             self._workspace = new_workspace(self.body_count, inputs.shapes, self._joints.rows,
                                             MAX_VERTICES, last.key, last.normal_impulse, last.tangent_impulse,
-                                            self.sleep)
+                                            self.sleep, numba.config.NUMBA_NUM_THREADS)
         self._fold_initial(inputs)
         self._stepper = new_stepper(*inputs[:5], self._settings(inputs), self._workspace, inputs.scenario,
                                     frames, self._status, self._clock)

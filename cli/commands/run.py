@@ -8,6 +8,8 @@ from pathlib import Path
 
 import typer
 
+from rustycs.defaults import MAX_THREADS
+
 from ..errors import UserError
 from ..output_files import inside
 
@@ -33,6 +35,10 @@ def command(
     compress: bool = typer.Option(False, "--compress", help="Compress the datasets (gzip with shuffle)."),
     allow_full_disk: bool = typer.Option(False, "--allow-full-disk",
                                          help="Run even when the output looks larger than the free disk."),
+    threads: int = typer.Option(1, "--threads", min=1, max=MAX_THREADS,
+                                help="Threads inside the world: placing shapes, colliding pairs and "
+                                "preparing contacts run in parts over them; the trajectory is bitwise the "
+                                "same for every N (for large worlds; sweeps use the cores across variants)."),
 ) -> None:
     """Simulate a scene and write its trajectory (HDF5) and summary (table, JSON sidecar).
 
@@ -55,7 +61,7 @@ def command(
         target = out if out is not None else _default_output(loaded.scene.name, scene)
         result = run_scene(loaded, target, ticks, every, contacts,
                            progress=sys.stderr.isatty() and not quiet, compress=compress, quiet=quiet,
-                           started=started, allow_full_disk=allow_full_disk)
+                           started=started, allow_full_disk=allow_full_disk, threads=threads)
     except KeyboardInterrupt:  # before the run installed its own handler
         print("rustycs: interrupted", file=sys.stderr)
         raise typer.Exit(130) from None

@@ -1,0 +1,186 @@
+"""Threads inside one world: the stages whose work splits by element run in parts, over threads.
+
+A world stepped with `threads` > 1 places its bodies' shapes, collides its candidate pairs and fills its
+contacts' solver lanes in parts of a fixed size (not a share per thread): each part computes its
+elements from their own inputs alone, into rows of its own, and the parts are joined in order. So the
+result is bitwise that of one thread, for any thread count. The broad phase, the solver's passes (each
+body meets its contacts in a fixed order, a chain through the whole pile) and the rest of the tick stay
+on the calling thread. numba's parallel loops (`prange`) run the parts; a world with fewer than two parts
+of a stage runs it on one thread, as waking the threads costs more than the work.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import get_thread_id, njit, prange
+
+from rustycs.compiling import inlined, parallel_kernel
+from rustycs.contact_solver import prepare_chunks
+from rustycs.geometry import Geometry, place_bodies
+from rustycs.manifold import Collision
+from rustycs.narrow_phase import collide_pairs
+from rustycs.pieces import MAX_VERTICES
+from rustycs.stepper import borrowed
+from rustycs.time_of_impact import Sweep
+
+BODY_PART = 64  # bodies placed by one part
+PAIR_PART = 128  # candidate pairs collided by one part
+CHUNK_PART = 16  # chunks of contacts whose lanes one part fills
+
+
+class ThreadScratch(NamedTuple):
+    """Per thread, the scratch of one pair's collision and sweep (rows as `manifold.Collision` and
+    `time_of_impact.Sweep`); per part of the pairs, the manifolds and points it found; per part of the
+    chunks, its bouncing contacts. (A parallel loop sums nothing itself: that needs numba's reference
+    counting, which the tick's kernels go without.)"""
+
+    normal: np.ndarray  # (T, 2)
+    points: np.ndarray  # (T, 2, 2)
+    separations: np.ndarray  # (T, 2)
+    ids: np.ndarray  # (T, 2) int64
+    kind: np.ndarray  # (T, 2) int64
+    radius: np.ndarray  # (T, 2)
+    count: np.ndarray  # (T, 2) int64
+    open_ends: np.ndarray  # (T, 2) int64
+    vertices: np.ndarray  # (T, 2, MAX_VERTICES, 2)
+    normals: np.ndarray  # (T, 2, MAX_VERTICES, 2)
+    centroid: np.ndarray  # (T, 2, 2)
+    ghosts: np.ndarray  # (T, 2, 2, 2)
+    hitbox: np.ndarray  # (T, 2, 4)
+    reach: np.ndarray  # (T, 2)
+    found: np.ndarray  # (P, 2) int64 per part of the pairs: manifolds and points
+    bouncy: np.ndarray  # (C,) int64 per part of the chunks: contacts that may bounce
+
+
+@njit(cache=True)
+def new_thread_scratch(threads, pairs):
+    """Scratch for `threads` threads colliding up to `pairs` candidate pairs."""
+    t = threads
+    return ThreadScratch(np.zeros((t, 2)), np.zeros((t, 2, 2)), np.zeros((t, 2)), np.zeros((t, 2), np.int64),
+                         np.zeros((t, 2), np.int64), np.zeros((t, 2)), np.zeros((t, 2), np.int64),
+                         np.zeros((t, 2), np.int64), np.zeros((t, 2, MAX_VERTICES, 2)),
+                         np.zeros((t, 2, MAX_VERTICES, 2)), np.zeros((t, 2, 2)), np.zeros((t, 2, 2, 2)),
+                         np.zeros((t, 2, 4)), np.zeros((t, 2)),
+                         np.zeros((pairs // PAIR_PART + 1, 2), np.int64),
+                         np.zeros(pairs // CHUNK_PART + 1, np.int64))
+
+
+@inlined
+def _collision_of(scratch, t):
+    return Collision(scratch.normal[t], scratch.points[t], scratch.separations[t], scratch.ids[t])
+
+
+@inlined
+def _sweep_of(scratch, t):
+    return Sweep(scratch.kind[t], scratch.radius[t], scratch.count[t], scratch.open_ends[t],
+                 Geometry(scratch.vertices[t], scratch.normals[t], scratch.centroid[t], scratch.ghosts[t],
+                          scratch.hitbox[t], scratch.reach[t]))
+
+
+@parallel_kernel
+def place_bodies_in_parts(stepper, margin, dt, statics):
+    """`geometry.update_geometry` of the stepper's world, in parts of BODY_PART bodies."""
+    n = borrowed(stepper).bodies.x.shape[0]
+    for p in prange((n + BODY_PART - 1) // BODY_PART):
+        _place_part(stepper, p, n, margin, dt, statics)
+
+
+# A parallel loop takes only arrays, numbers and the stepper (whose records are read inside it), and its
+# body only calls a part's function: numba's parallel loops lost writes made in the loop's own body
+# through arrays read from the stepper (not those made in a called function).
+
+
+@inlined
+def _place_part(stepper, p, n, margin, dt, statics):
+    world = borrowed(stepper)
+    place_bodies(p * BODY_PART, min(n, (p + 1) * BODY_PART), world.bodies, world.shapes, margin, dt, statics,
+                 world.workspace.geometry)
+
+
+@parallel_kernel
+def collide_pairs_in_parts(stepper, n_pairs, margin, dt, sleeping):
+    """`narrow_phase.narrow_phase` of the stepper's world, in parts of PAIR_PART pairs: part p writes from
+    manifold row p * PAIR_PART and point row 2 p PAIR_PART (a pair has a manifold and two points at
+    most), then the parts are moved together in order."""
+    n_parts = (n_pairs + PAIR_PART - 1) // PAIR_PART
+    for p in prange(n_parts):
+        _collide_part(stepper, p, n_pairs, margin, dt, sleeping, get_thread_id())
+    ws = borrowed(stepper).workspace
+    return _join(ws.contacts, ws.threads.found, n_parts)
+
+
+@inlined
+def _collide_part(stepper, p, n_pairs, margin, dt, sleeping, thread):
+    world = borrowed(stepper)
+    ws = world.workspace
+    scratch = ws.threads
+    first = p * PAIR_PART
+    manifolds, points = collide_pairs(first, min(n_pairs, first + PAIR_PART), first, 2 * first,
+                                      ws.pairs.keys, world.bodies, world.shapes, ws.geometry, margin, dt,
+                                      sleeping, ws.contacts, _collision_of(scratch, thread),
+                                      _sweep_of(scratch, thread))
+    scratch.found[p, 0] = manifolds
+    scratch.found[p, 1] = points
+
+
+@inlined
+def _join(contacts, found, n_parts):
+    """Move each part's manifolds and points down to follow the parts before it."""
+    m = contacts.manifolds
+    pts = contacts.points
+    n_man = 0
+    n_pts = 0
+    for p in range(n_parts):
+        m_from, p_from = p * PAIR_PART, 2 * p * PAIR_PART
+        for k in range(found[p, 0]):
+            src, dst = m_from + k, n_man + k
+            m.shape_a[dst] = m.shape_a[src]
+            m.shape_b[dst] = m.shape_b[src]
+            m.body_a[dst] = m.body_a[src]
+            m.body_b[dst] = m.body_b[src]
+            m.first[dst] = m.first[src] - p_from + n_pts
+            m.count[dst] = m.count[src]
+            for column in range(m.data.shape[1]):
+                m.data[dst, column] = m.data[src, column]
+        for k in range(found[p, 1]):
+            src, dst = p_from + k, n_pts + k
+            pts.key[dst] = pts.key[src]
+            pts.position[dst, 0] = pts.position[src, 0]
+            pts.position[dst, 1] = pts.position[src, 1]
+            for column in range(pts.data.shape[1]):
+                pts.data[dst, column] = pts.data[src, column]
+        n_man += found[p, 0]
+        n_pts += found[p, 1]
+    contacts.count[0] = n_man
+    contacts.count[1] = n_pts
+    return n_man, n_pts
+
+
+@parallel_kernel
+def prepare_in_parts(stepper, n_chunks, soft_rate, soft_mass, soft_impulse, stiff_rate, stiff_mass,
+                     stiff_impulse):
+    """`contact_solver.prepare` of the stepper's world, in parts of CHUNK_PART chunks, with the contacts'
+    softness (rate, mass and impulse scales) and the stiffer one against immovable bodies; returns the
+    contacts that may bounce."""
+    n_parts = (n_chunks + CHUNK_PART - 1) // CHUNK_PART
+    for p in prange(n_parts):
+        _prepare_part(stepper, p, n_chunks, soft_rate, soft_mass, soft_impulse, stiff_rate, stiff_mass,
+                      stiff_impulse)
+    bouncy = borrowed(stepper).workspace.threads.bouncy
+    total = 0
+    for p in range(n_parts):
+        total += bouncy[p]
+    return total
+
+
+@inlined
+def _prepare_part(stepper, p, n_chunks, soft_rate, soft_mass, soft_impulse, stiff_rate, stiff_mass,
+                  stiff_impulse):
+    world = borrowed(stepper)
+    ws = world.workspace
+    ws.threads.bouncy[p] = prepare_chunks(p * CHUNK_PART, min(n_chunks, (p + 1) * CHUNK_PART), ws.batches,
+                                          ws.contacts.manifolds, ws.contacts.points, world.shapes.radius,
+                                          ws.body, (soft_rate, soft_mass, soft_impulse),
+                                          (stiff_rate, stiff_mass, stiff_impulse), ws.lanes)
