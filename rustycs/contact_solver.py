@@ -147,7 +147,8 @@ def prepare(batches, n_chunks, manifolds, points, radius, body, soft, stiff, lan
     is nearest, whichever way the shape has turned. With the radius turned too, a ball glancing off a
     wall at 167 m/s, spun up to 800 rad/s by friction, turned its anchor away from the wall and went
     through it."""
-    return prepare_chunks(0, n_chunks, batches, manifolds, points, radius, body, soft, stiff, lanes)
+    # np.int64(0), not the literal 0: one compiled `prepare_chunks` for this and the parts
+    return prepare_chunks(np.int64(0), n_chunks, batches, manifolds, points, radius, body, soft, stiff, lanes)
 
 
 @inlined

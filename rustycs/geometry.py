@@ -75,7 +75,8 @@ def update_geometry(bodies, shapes, margin, dt, statics, geometry):
     """Place every shape of the active bodies awake (of static ones too when `statics`), and grow each
     hitbox by its body's reach: the margin plus the farthest its shapes' cores travel in a tick
     (|v| + |w| extent)."""
-    place_bodies(0, bodies.x.shape[0], bodies, shapes, margin, dt, statics, geometry)
+    # np.int64(0), not the literal 0: one compiled `place_bodies` for this and the parts
+    place_bodies(np.int64(0), bodies.x.shape[0], bodies, shapes, margin, dt, statics, geometry)
 
 
 @inlined

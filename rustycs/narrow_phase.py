@@ -202,8 +202,9 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, sleep
     With `sleeping` (a world that sleeps), the pairs of bodies asleep are passed over: their points are
     in the store (`rustycs.sleep`).
     """
-    n_man, n_pts = collide_pairs(0, n_pairs, 0, 0, pair_keys, bodies, shapes, geometry, margin, dt, sleeping,
-                                 contacts, contacts.collision, contacts.sweep)
+    start = np.int64(0)  # not the literal 0: `collide_pairs` is compiled once, for this and for the parts
+    n_man, n_pts = collide_pairs(start, n_pairs, start, start, pair_keys, bodies, shapes, geometry, margin,
+                                 dt, sleeping, contacts, contacts.collision, contacts.sweep)
     contacts.count[0] = n_man
     contacts.count[1] = n_pts
     return n_man, n_pts
