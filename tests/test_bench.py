@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import NAP, NAP_SLEEPS
 from rich.console import Console
 
 from rustycs_cli.bench import peers, quality, suite
@@ -243,6 +244,45 @@ def test_peers_build_the_compounds_shape_for_shape(engine: str, compounds):
     masses = [body.mass for body in peer.bodies[1:]]
     assert masses == pytest.approx([2.0] * 3000, rel=1e-6)  # two triangles of area 1, density 1
     assert np.array(peer.poses()) == pytest.approx(poses(bench), abs=1e-4)  # Box2D: float32, y up to 340 m
+
+
+# ------------------------------------------------------------------------------------- --sleep, --threads
+
+
+@needs_peers
+@pytest.mark.parametrize("engine", peers.ENGINES)
+@pytest.mark.parametrize("sleep", [True, False])
+def test_peers_sleep_when_asked(engine: str, sleep: bool):
+    scene = load_scene_text(NAP, "nap.yaml").scene  # the peers take sleeping from `sleep` alone
+    peer = peers.build(engine, describe(scene, build_world(scene)), sleep=sleep)
+    assert peer.sleep is sleep
+    for _ in range(NAP_SLEEPS + 10):  # the ball lands at about tick 62
+        peer.step()
+    _floor, crate, ball = peer.bodies
+    if engine == "pymunk":
+        asleep = [crate.is_sleeping, ball.is_sleeping]
+    else:
+        asleep = [not crate.awake, not ball.awake]
+    assert asleep == [sleep, False]
+
+
+@needs_peers
+@pytest.mark.parametrize("engine", peers.ENGINES)
+def test_peers_step_with_the_threads_asked_for(engine: str):
+    bench, _world = falling_scene()
+    one, two, three = (peers.build(engine, bench, threads=n) for n in (1, 2, 3))
+    used = 2 if engine == "pymunk" else 3  # Chipmunk's threaded space runs 2 threads at most
+    assert (one.threads, two.threads, three.threads) == (1, 2, used) == tuple(
+        peers.threads_used(engine, n) for n in (1, 2, 3))
+    for peer in (one, two, three):
+        for _ in range(10):
+            peer.step()
+    assert np.array(two.poses()) == pytest.approx(np.array(one.poses()), abs=1e-9)  # free flight
+    assert np.array(three.poses()) == pytest.approx(np.array(one.poses()), abs=1e-9)
+    described = peers.describe_settings(engine, False, 3)
+    assert ("threaded space, 2 threads" in described and "2 at most" in described if engine == "pymunk"
+            else described.endswith("3 workers (a pyb2d3 ThreadPool)"))
+    assert "single-threaded" in peers.describe_settings(engine, False, 1)
 
 
 # ---------------------------------------------------------------------------------- aggregation, report
