@@ -205,11 +205,12 @@ def _divergence_message(err: Any, names: list[str], last_tick: int, out: Path) -
             f"frames up to tick {last_tick} are kept in {out}")
 
 
-def warm_up() -> None:
-    """Load the kernels with a two-body world, so compiling or loading them is not timed as stepping."""
+def warm_up(threads: int = 1) -> None:
+    """Load the kernels with a two-body world, so compiling or loading them is not timed as stepping;
+    with `threads` > 1 also start numba's threads (its first parallel step does)."""
     import rustycs
 
-    world = rustycs.World()
+    world = rustycs.World(threads=threads)
     world.add_body(rustycs.Circle(radius=0.5), position=(0.0, 0.4))
     world.add_body(rustycs.Box(1.0, 1.0), position=(0.0, -0.5), body_type="static")
     world.load_kernels()

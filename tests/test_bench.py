@@ -10,9 +10,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import NAP, NAP_SLEEPS
 from rich.console import Console
 
-from rustycs_cli.bench import peers, quality, suite
+from rustycs_cli.bench import peers, quality, suite, worker
 from rustycs_cli.bench.report import print_report
 from rustycs_cli.bench.spec import BenchScene, BodySpec, ShapeSpec, describe
 from rustycs_cli.build import build_world
@@ -245,35 +246,97 @@ def test_peers_build_the_compounds_shape_for_shape(engine: str, compounds):
     assert np.array(peer.poses()) == pytest.approx(poses(bench), abs=1e-4)  # Box2D: float32, y up to 340 m
 
 
+# ------------------------------------------------------------------------------------- --sleep, --threads
+
+
+@pytest.fixture
+def nap(tmp_path: Path) -> Path:
+    """A crate resting on a floor (asleep from tick NAP_SLEEPS where sleeping is on) and a ball falling
+    from 6 m; the scene itself says sleep: true."""
+    path = tmp_path / "nap.yaml"
+    path.write_text(NAP)
+    return path
+
+
+@pytest.mark.parametrize("sleep", [True, False])
+def test_the_worker_loads_scenes_sleeping_as_asked(nap: Path, sleep: bool, compiled_engine: None):
+    world = build_world(worker.load(str(nap), sleep).scene)  # --sleep, or not, whatever the scene says
+    assert world.sleep is sleep and world.sleep_time == peers.SLEEP_TIME
+    world.step(NAP_SLEEPS + 10)
+    assert list(world.asleep) == [False, sleep, False]  # the floor and the falling ball never sleep
+
+
+@needs_peers
+@pytest.mark.parametrize("engine", peers.ENGINES)
+@pytest.mark.parametrize("sleep", [True, False])
+def test_peers_sleep_when_asked(engine: str, sleep: bool):
+    scene = load_scene_text(NAP, "nap.yaml").scene  # the peers take sleeping from `sleep` alone
+    peer = peers.build(engine, describe(scene, build_world(scene)), sleep=sleep)
+    assert peer.sleep is sleep
+    for _ in range(NAP_SLEEPS + 10):  # the ball lands at about tick 62
+        peer.step()
+    _floor, crate, ball = peer.bodies
+    if engine == "pymunk":
+        asleep = [crate.is_sleeping, ball.is_sleeping]
+    else:
+        asleep = [not crate.awake, not ball.awake]
+    assert asleep == [sleep, False]
+
+
+@needs_peers
+@pytest.mark.parametrize("engine", peers.ENGINES)
+def test_peers_step_with_the_threads_asked_for(engine: str):
+    bench, _world = falling_scene()
+    one, two, three = (peers.build(engine, bench, threads=n) for n in (1, 2, 3))
+    used = 2 if engine == "pymunk" else 3  # Chipmunk's threaded space runs 2 threads at most
+    assert (one.threads, two.threads, three.threads) == (1, 2, used) == tuple(
+        peers.threads_used(engine, n) for n in (1, 2, 3))
+    for peer in (one, two, three):
+        for _ in range(10):
+            peer.step()
+    assert np.array(two.poses()) == pytest.approx(np.array(one.poses()), abs=1e-9)  # free flight
+    assert np.array(three.poses()) == pytest.approx(np.array(one.poses()), abs=1e-9)
+    described = peers.describe_settings(engine, False, 3)
+    assert ("threaded space, 2 threads" in described and "2 at most" in described if engine == "pymunk"
+            else described.endswith("3 workers (a pyb2d3 ThreadPool)"))
+    assert "single-threaded" in peers.describe_settings(engine, False, 1)
+
+
 # ---------------------------------------------------------------------------------- aggregation, report
 
 
 def test_series_medians_ratios_and_failures(monkeypatch: pytest.MonkeyPatch):
     times = {"rustycs": iter([1.0, 3.0, 2.0]), "pymunk": iter([4.0, 4.0, 5.0]), "pyb2d3": iter([1.0, 1.0])}
 
-    def fake(engine: str, scene: str, max_ticks, block: int, metrics) -> dict:
+    def fake(engine: str, scene: str, max_ticks, block: int, metrics, sleep: bool, threads: int) -> dict:
         value = next(times[engine], None)
         if value is None:
             return {"error": "diverged"}
         return {"ms_per_tick": value, "scene": "S2_pyramid20", "bodies": 210, "ticks": 600,
-                "quality": {"max_displacement": value / 10}}
+                "quality": {"max_displacement": value / 10}, "sleep": sleep, "threads": threads}
 
     monkeypatch.setattr(suite.runner, "measure_steps", fake)
     plan = suite.Plan(scenes={"S2": Path("S2.yaml")}, engines=("rustycs", "pymunk", "pyb2d3"), reps=3,
-                      max_ticks=None, block=100, compile=False, scaling=False, recording=False,
-                      command="rustycs bench")
+                      max_ticks=None, block=100, compile=False, scaling=False, recording=False, sleep=True,
+                      threads=2, command="rustycs bench")
     rows = suite._series(plan, [("S2", "S2.yaml", ("max_displacement",))], lambda line: None)
     row = rows["S2"]
     assert row["engines"]["rustycs"]["median_ms"] == 2.0 and row["engines"]["rustycs"]["min_ms"] == 1.0
     assert row["ratios"] == {"pymunk": 0.5, "pyb2d3": 2.0}
     assert row["engines"]["pymunk"]["quality"] == {"max_displacement": 0.4}  # from the first repetition
-    result = {"meta": {"cpu": "cpu", "cores": 2, "date": "today", "command": "rustycs bench", "reps": 3},
-              "scenes": rows}
+    assert all((cell["sleep"], cell["threads"]) == (True, 2) for cell in row["engines"].values())
+    settings = {"sleep": True, "threads": 2, "engines": {"rustycs": "sleeping on", "pymunk": "2 threads"}}
+    result = {"meta": {"cpu": "cpu", "cores": 2, "date": "today", "command": "rustycs bench", "reps": 3,
+                       "settings": settings}, "scenes": rows}
     assert suite.failures(result) == ["S2 pyb2d3: diverged"]
     console = Console(record=True, width=200)
     print_report(result, markdown=True, console=console)
+    text = console.export_text()
+    assert "- rustycs: sleeping on\n- pymunk: 2 threads\n" in text
+    titles = [line for line in text.splitlines() if line.startswith("**")]
+    assert titles and all(title.endswith("; sleeping on, 2 threads per world**") for title in titles)
     rows = [[cell.strip() for cell in line.strip().strip("|").split("|")]
-            for line in console.export_text().splitlines() if line.startswith("| S2")]
+            for line in text.splitlines() if line.startswith("| S2")]
     assert rows == [
         ["S2_pyramid20", "210", "600", "2.000 (1.000)", "4.000 (4.000)", "0.50", "1.000 (1.000)", "2.00"],
         ["S2_pyramid20", "worst box displacement, m", "0.1", "0.4", "0.1"],
@@ -293,6 +356,9 @@ def test_bench_one_scene_json(cli, monkeypatch: pytest.MonkeyPatch):
     assert (s1["name"], s1["bodies"], s1["ticks"]) == ("S1_bounce", 5, 5)
     cell = s1["engines"]["rustycs"]
     assert len(cell["ms_per_tick"]) == 1 and cell["median_ms"] == cell["min_ms"] > 0
+    assert (cell["sleep"], cell["threads"]) == (False, 1)
+    assert result["meta"]["settings"] == {"sleep": False, "threads": 1, "engines": {
+        "rustycs": "substeps as the scene's world.precision, sleeping off, single-threaded"}}
     assert s1["ratios"] == {}
     times = result["compile"]
     assert times["errors"] == [] and all(times[k] > 0 for k in ("cold_s", "warm_s", "import_s", "startup_s"))
@@ -316,6 +382,27 @@ def test_bench_peers_on_the_orbits(cli):
         assert 0 < drift["mean_radius_drift"] <= drift["max_radius_drift"] < 0.02
 
 
+@needs_peers
+def test_bench_sleep_and_threads_reach_every_engine(cli):
+    done = cli("bench", "S1", "--peers", "--sleep", "--threads", "2", "--ticks", "5", "--reps", "1",
+               "--no-scaling", "--no-compile", "--json", "-q")
+    assert done.exit_code == 0, done.stderr
+    result = json.loads(done.stdout)
+    for engine, cell in result["scenes"]["S1"]["engines"].items():  # as each engine's world reports it
+        assert (engine, cell["sleep"], cell["threads"]) == (engine, True, 2)
+    settings = result["meta"]["settings"]
+    assert (settings["sleep"], settings["threads"], list(settings["engines"])) == (True, 2, [
+        "rustycs", "pymunk", "pyb2d3"])
+    assert settings["engines"]["rustycs"].endswith("sleeping on (0.5 s at rest), world.threads 2")
+    assert "sleeping on (0.5 s at rest), continuous on, 2 workers" in settings["engines"]["pyb2d3"]
+
+
+@pytest.mark.parametrize("value", ["0", "257", "two"])
+def test_bench_threads_out_of_range_is_a_usage_error(cli, value: str):
+    done = cli("bench", "S1", "--threads", value, "--no-compile", "--no-scaling")
+    assert done.exit_code == 2 and "--threads" in done.stderr and "Traceback" not in done.stderr
+
+
 def test_bench_peers_missing_is_a_user_error(cli, monkeypatch: pytest.MonkeyPatch):
     monkeypatch.setattr(peers, "missing", lambda: ["pyb2d3"])
     done = cli("bench", "--peers", "--scenes", "S1")
@@ -330,7 +417,7 @@ def test_bench_unknown_scene(cli):
 def test_recording_worker_runs_the_scene(five_body_scene: Path, compiled_engine: None):
     from rustycs_cli.bench.worker import record
 
-    got = record(str(five_body_scene), 7)
+    got = record(str(five_body_scene), 7, sleep=True, threads=2)  # as `rustycs bench --sleep --threads 2`
     assert (got["scene"], got["ticks"]) == ("five", 7)
     assert got["step_seconds"] > 0 and got["seconds"] >= 0 and got["peak_memory_mb"] > 1
 

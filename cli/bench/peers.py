@@ -2,9 +2,11 @@
 shapes (circles, polygons, capsules, segments) on one peer body, and its joints (`peer_joints`).
 
 Settings follow the peer harness (../shared/bench/peers), so that our numbers can be put next to its:
-pymunk: 10 iterations, collision_slop 0.005 m, no sleeping, no damping; pyb2d3: 4 substeps, sleeping
-off, continuous collision at its default (bullets where the scene has them), single-threaded. Both
-engines mix materials like Box2D
+pymunk: 10 iterations, collision_slop 0.005 m, no damping; pyb2d3: 4 substeps, continuous collision at
+its default (bullets where the scene has them). Sleeping is off unless asked for (`rustycs bench
+--sleep`: bodies at rest for SLEEP_TIME s sleep, Box2D v3's fixed time); both step on one thread unless
+asked for more (`--threads`: a pyb2d3 thread pool of that many workers, pymunk's threaded space, which
+runs at most 2). Both engines mix materials like Box2D
 (friction sqrt(f1*f2), restitution max): pymunk multiplies the two shapes' coefficients, so each shape
 gets sqrt(friction) and static shapes elasticity 1 (the scenes' statics have restitution 0, so the
 product equals Box2D's max). Attractors are applied from Python before every step, as the harness does.
@@ -12,8 +14,8 @@ product equals Box2D's max). Attractors are applied from Python before every ste
 Box2D v3's make_rot and body.angle are fast approximations (errors near 1e-3 rad), so rotations are
 built from the exact cosine and sine and read back with atan2.
 
-Each adapter offers `step` (one tick, no adapter layer in between) and `poses()` ((x, y, angle) of
-every body origin, in scene order).
+Each adapter offers `step` (one tick, no adapter layer in between), `poses()` ((x, y, angle) of every
+body origin, in scene order), and `sleep` and `threads`: what its engine runs with.
 """
 
 from __future__ import annotations
@@ -29,6 +31,8 @@ from .spec import BenchScene, BodySpec, ShapeSpec
 PYMUNK_ITERATIONS = 10
 PYMUNK_COLLISION_SLOP = 0.005
 B2_SUBSTEPS = 4
+SLEEP_TIME = 0.5  # s at rest before a body sleeps: Box2D v3's b2_timeToSleep, given to pymunk and rustycs
+PYMUNK_MAX_THREADS = 2  # Chipmunk's hasty space runs its solver on at most 2 threads
 ENGINES = ("pymunk", "pyb2d3")
 
 
@@ -46,9 +50,42 @@ def versions() -> dict[str, str]:
     return {name: version(name) for name in ENGINES}
 
 
-def build(engine: str, scene: BenchScene) -> PymunkWorld | Box2DWorld:
-    """The peer world of `engine` ("pymunk" or "pyb2d3") holding the scene's bodies."""
-    return {"pymunk": PymunkWorld, "pyb2d3": Box2DWorld}[engine](scene)
+def build(engine: str, scene: BenchScene, sleep: bool = False, threads: int = 1) -> PymunkWorld | Box2DWorld:
+    """The peer world of `engine` ("pymunk" or "pyb2d3") holding the scene's bodies, sleeping or not,
+    stepped by up to `threads` threads."""
+    return {"pymunk": PymunkWorld, "pyb2d3": Box2DWorld}[engine](scene, sleep, threads)
+
+
+def threads_used(engine: str, threads: int) -> int:
+    """How many threads `engine` steps one world with when asked for `threads`: pymunk at most 2 and one
+    on Windows (no threaded space there), a pyb2d3 built without threading one."""
+    if engine == "pymunk":
+        import platform
+
+        return 1 if platform.system() == "Windows" else min(threads, PYMUNK_MAX_THREADS)
+    import pyb2d3
+
+    return threads if pyb2d3.WITH_THREADING else 1
+
+
+def describe_settings(engine: str, sleep: bool, threads: int) -> str:
+    """The settings `engine` runs with, for the report and the JSON: what ran, also where the engine
+    cannot use the threads asked for."""
+    used = threads_used(engine, threads)
+    if engine == "pymunk":
+        napping = f"sleeping after {SLEEP_TIME} s idle" if sleep else "no sleeping"
+        stepping = ("single-threaded" if used == 1 else
+                    f"threaded space, {used} threads (each runs 1/{used} of the solver iterations over all "
+                    "contacts at once)")
+        if used < threads:
+            stepping += f" ({PYMUNK_MAX_THREADS} at most, none on Windows)"
+        return (f"iterations {PYMUNK_ITERATIONS}, collision_slop {PYMUNK_COLLISION_SLOP}, {napping}, "
+                f"{stepping}")
+    napping = f"sleeping on ({SLEEP_TIME} s at rest)" if sleep else "sleeping off"
+    stepping = "single-threaded" if used == 1 else f"{used} workers (a pyb2d3 ThreadPool)"
+    if used < threads:
+        stepping += " (this pyb2d3 is built without threading)"
+    return f"{B2_SUBSTEPS} substeps, {napping}, continuous on, {stepping}"
 
 
 def _group_number(group: int) -> int:
@@ -97,13 +134,16 @@ def _with_forces(step: Callable[[], None], forces: list[Callable[[], None]]) -> 
 class PymunkWorld:
     """The scene in a pymunk Space."""
 
-    def __init__(self, scene: BenchScene):
+    def __init__(self, scene: BenchScene, sleep: bool, threads: int):
         import pymunk
 
-        space = pymunk.Space()
+        space = pymunk.Space(threaded=threads > 1)
+        space.threads = threads  # pymunk keeps 1 on a space that is not threaded, 2 at most on one
         space.gravity = scene.gravity
         space.iterations = PYMUNK_ITERATIONS
         space.collision_slop = PYMUNK_COLLISION_SLOP
+        if sleep:  # idle_speed_threshold stays 0: pymunk derives it from the gravity
+            space.sleep_time_threshold = SLEEP_TIME
         self.space = space
         self.bodies: list[Any] = []
         for spec in scene.bodies:
@@ -120,6 +160,14 @@ class PymunkWorld:
 
         forces = [_central_force(moving, a, position, apply) for a in scene.attractors]
         self.step = _with_forces(functools.partial(space.step, scene.dt), forces)
+
+    @property
+    def sleep(self) -> bool:
+        return self.space.sleep_time_threshold < math.inf
+
+    @property
+    def threads(self) -> int:
+        return self.space.threads
 
     def _add(self, pymunk: Any, spec: BodySpec) -> Any:
         static = spec.body_type == "static"
@@ -164,13 +212,16 @@ class PymunkWorld:
 class Box2DWorld:
     """The scene in a Box2D v3 world (pyb2d3)."""
 
-    def __init__(self, scene: BenchScene):
+    def __init__(self, scene: BenchScene, sleep: bool, threads: int):
         import pyb2d3 as b2
 
-        world = b2.World(gravity=scene.gravity)
-        world.sleeping_enabled = False
+        used = threads_used("pyb2d3", threads)
+        pool = {"thread_pool": b2.ThreadPool(used)} if used > 1 else {}  # Box2D's workers run its tasks
+        world = b2.World(gravity=scene.gravity, **pool)
+        world.sleeping_enabled = sleep
         self.world = world
-        self.bodies = [self._add(b2, spec) for spec in scene.bodies]
+        self.threads = used  # Box2D's worker count (pyb2d3 does not read it back)
+        self.bodies = [self._add(b2, spec, sleep) for spec in scene.bodies]
         add_box2d_joints(world, self.bodies, scene.joints)
         moving = [(b, b.mass) for b, spec in zip(self.bodies, scene.bodies, strict=True)
                   if spec.body_type == "dynamic"]
@@ -185,12 +236,16 @@ class Box2DWorld:
         forces = [_central_force(moving, a, position, apply) for a in scene.attractors]
         self.step = _with_forces(functools.partial(world.step, scene.dt, B2_SUBSTEPS), forces)
 
-    def _add(self, b2: Any, spec: BodySpec) -> Any:
+    @property
+    def sleep(self) -> bool:
+        return self.world.sleeping_enabled
+
+    def _add(self, b2: Any, spec: BodySpec, sleep: bool) -> Any:
         kinds = {"static": b2.BodyType.STATIC, "dynamic": b2.BodyType.DYNAMIC,
                  "kinematic": b2.BodyType.KINEMATIC}
         body = self.world.create_body(b2.body_def(
             type=kinds[spec.body_type], position=spec.position, rotation=b2.Rot(spec.angle),
-            linear_velocity=spec.velocity, angular_velocity=spec.angular_velocity, enable_sleep=False,
+            linear_velocity=spec.velocity, angular_velocity=spec.angular_velocity, enable_sleep=sleep,
             fixed_rotation=spec.fixed_rotation, is_bullet=spec.bullet))
         for part in spec.shapes:
             density = part.mass / part.area if part.mass > 0 else 0.0

@@ -31,6 +31,8 @@ def print_report(result: dict[str, Any], markdown: bool = False, console: Consol
     meta = result["meta"]
     console.print(f"{meta['cpu']}, {meta['cores']} cores; {meta['date']}; `{meta['command']}`",
                   highlight=False)
+    for engine, settings in meta["settings"]["engines"].items():
+        console.print(f"{'- ' if markdown else ''}{ENGINE_TITLES[engine]}: {settings}", highlight=False)
     for table in tables(result):
         table.box = style
         console.print()
@@ -44,11 +46,12 @@ def print_report(result: dict[str, Any], markdown: bool = False, console: Consol
 def tables(result: dict[str, Any]) -> list[Table]:
     """The speed, quality, compile and scaling tables that `result` has data for."""
     reps = result["meta"]["reps"]
+    ran = _settings_caption(result["meta"]["settings"])
     out = []
     if result.get("scenes"):
-        title = f"ms per tick, median (min) of {reps} fresh processes; ratio = rustycs / peer"
+        title = f"ms per tick, median (min) of {reps} fresh processes; ratio = rustycs / peer; {ran}"
         out.append(_speed_table(result["scenes"], "scene", title))
-        quality = _quality_table(result["scenes"])
+        quality = _quality_table(result["scenes"], ran)
         if quality.row_count:
             out.append(quality)
     if "recording" in result:
@@ -58,8 +61,15 @@ def tables(result: dict[str, Any]) -> list[Table]:
     if result.get("scaling"):
         ticks = next(iter(result["scaling"].values())).get("ticks", "?")
         out.append(_speed_table(result["scaling"], "bodies",
-                                f"scaling: circles in a container, ms per tick over {ticks} ticks"))
+                                f"scaling: circles in a container, ms per tick over {ticks} ticks; {ran}"))
     return out
+
+
+def _settings_caption(settings: dict[str, Any]) -> str:
+    """The run's options in a table's title, so that a table copied alone still says what ran."""
+    threads = settings["threads"]
+    return (f"sleeping {'on' if settings['sleep'] else 'off'}, "
+            f"{threads} thread{'s' if threads > 1 else ''} per world")
 
 
 def _engines(rows: dict[str, Any]) -> list[str]:
@@ -105,9 +115,10 @@ def _ms(value: float) -> str:
     return f"{value:.4f}" if value < 0.1 else f"{value:.3f}" if value < 10 else f"{value:.1f}"
 
 
-def _quality_table(rows: dict[str, Any]) -> Table:
+def _quality_table(rows: dict[str, Any], ran: str) -> Table:
     engines = _engines(rows)
-    table = Table(title="quality at the end of each run (from the final poses, same measures for all)")
+    table = Table(title="quality at the end of each run (from the final poses, same measures for all); "
+                  + ran)
     table.add_column("scene")
     table.add_column("measure")
     for engine in engines:

@@ -24,18 +24,24 @@ def run_worker(args: list[str], env: dict[str, str] | None = None) -> dict[str, 
     return json.loads(lines[-1])
 
 
-def measure_steps(engine: str, scene: str, max_ticks: int | None, block: int,
-                  metrics: tuple[str, ...]) -> dict[str, Any]:
+def measure_steps(engine: str, scene: str, max_ticks: int | None, block: int, metrics: tuple[str, ...],
+                  sleep: bool, threads: int) -> dict[str, Any]:
     """Stepping time and quality of `scene` (a file or `scaling:N`) in `engine`."""
     args = ["step", engine, scene, "--block", str(block), "--metrics", ",".join(metrics)]
     if max_ticks is not None:
         args += ["--max-ticks", str(max_ticks)]
-    return run_worker(args)
+    return run_worker(args + _settings(sleep, threads))
 
 
-def measure_recording(scene: str, max_ticks: int | None) -> dict[str, Any]:
+def measure_recording(scene: str, max_ticks: int | None, sleep: bool, threads: int) -> dict[str, Any]:
     """Time of `rustycs run` on `scene` recording every tick, and the worker's peak memory."""
-    return run_worker(["record", scene] + ([] if max_ticks is None else ["--max-ticks", str(max_ticks)]))
+    ticks = [] if max_ticks is None else ["--max-ticks", str(max_ticks)]
+    return run_worker(["record", scene, *ticks, *_settings(sleep, threads)])
+
+
+def _settings(sleep: bool, threads: int) -> list[str]:
+    """The worker's options for sleeping and threads."""
+    return ["--threads", str(threads)] + (["--sleep"] if sleep else [])
 
 
 def measure_first_step(cache_dir: Path) -> dict[str, Any]:

@@ -21,10 +21,6 @@ from .quality import METRICS
 from .scenes import SCALING_SIZES, SCALING_TICKS, scaling_ref
 
 RECORDED_SCENE = "S4"  # the issue's yardstick: recording every tick of S4 costs at most 20 %
-PEER_SETTINGS = {
-    "pymunk": "iterations 10, collision_slop 0.005, no sleeping",
-    "pyb2d3": "4 substeps, sleeping off, continuous on, single-threaded",
-}
 
 
 @dataclass(frozen=True)
@@ -39,6 +35,8 @@ class Plan:
     compile: bool
     scaling: bool
     recording: bool
+    sleep: bool  # bodies at rest sleep, in every engine
+    threads: int  # threads inside one world, in every engine that has them
     command: str
 
 
@@ -79,7 +77,8 @@ def _series(plan: Plan, items: list[tuple[str, str, tuple[str, ...]]],
         for key, ref, metrics in items:
             row = rows.setdefault(key, {"engines": {}})
             for engine in plan.engines:
-                run = runner.measure_steps(engine, ref, plan.max_ticks, plan.block, metrics)
+                run = runner.measure_steps(engine, ref, plan.max_ticks, plan.block, metrics, plan.sleep,
+                                           plan.threads)
                 cell = row["engines"].setdefault(engine, {"ms_per_tick": [], "errors": []})
                 if "error" in run:
                     cell["errors"].append(run["error"])
@@ -87,6 +86,7 @@ def _series(plan: Plan, items: list[tuple[str, str, tuple[str, ...]]],
                     continue
                 cell["ms_per_tick"].append(run["ms_per_tick"])
                 cell.setdefault("quality", run["quality"])
+                cell.update(sleep=run["sleep"], threads=run["threads"])  # as the engine's world reports them
                 row.update(name=run["scene"], bodies=run["bodies"], ticks=run["ticks"])
                 progress(f"rep {rep + 1} {key:5} {engine:8} {run['ms_per_tick']:9.4f} ms/tick")
     for row in rows.values():
@@ -103,7 +103,8 @@ def _series(plan: Plan, items: list[tuple[str, str, tuple[str, ...]]],
 def _recording(plan: Plan, row: dict[str, Any], progress: Callable[[str], None]) -> dict[str, Any]:
     """`rustycs run` of the recorded scene (every tick to HDF5) against its stepping-only time."""
     scene = str(plan.scenes[RECORDED_SCENE])
-    runs = [runner.measure_recording(scene, plan.max_ticks) for _ in range(plan.reps)]
+    runs = [runner.measure_recording(scene, plan.max_ticks, plan.sleep, plan.threads)
+            for _ in range(plan.reps)]
     ok = [r for r in runs if "error" not in r]
     for r in runs:
         progress(f"record {RECORDED_SCENE}: {r.get('error') or format(r['ms_per_tick'], '.4f') + ' ms/tick'}")
@@ -146,13 +147,29 @@ def _meta(plan: Plan) -> dict[str, Any]:
     versions = {"rustycs": rustycs.__version__, "commit": _git_commit()}
     if len(plan.engines) > 1:
         versions.update(peers.versions())
+    peer_settings = {e: peers.describe_settings(e, plan.sleep, plan.threads)
+                     for e in plan.engines if e != "rustycs"}
     return {
         "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "cpu": _cpu_model(), "cores": os.cpu_count(),
         "platform": platform.platform(), "python": platform.python_version(), "command": plan.command,
         "load_average_start": os.getloadavg(), "reps": plan.reps, "max_ticks": plan.max_ticks,
         "block": plan.block, "versions": versions,
-        "peer_settings": {e: PEER_SETTINGS[e] for e in plan.engines if e in PEER_SETTINGS},
+        "settings": {"sleep": plan.sleep, "threads": plan.threads,
+                     "engines": {"rustycs": _rustycs_settings(plan.sleep, plan.threads), **peer_settings}},
     }
+
+
+def _rustycs_settings(sleep: bool, threads: int) -> str:
+    """What rustycs runs with (as `peers.describe_settings` for the peers)."""
+    import numba
+
+    from .peers import SLEEP_TIME
+
+    napping = f"sleeping on ({SLEEP_TIME} s at rest)" if sleep else "sleeping off"
+    stepping = "single-threaded" if threads == 1 else f"world.threads {threads}"
+    if threads > numba.config.NUMBA_NUM_THREADS:
+        stepping += f" (numba runs {numba.config.NUMBA_NUM_THREADS})"
+    return f"substeps as the scene's world.precision, {napping}, {stepping}"
 
 
 def _cpu_model() -> str:

@@ -1,7 +1,8 @@
 """One measurement in a fresh process, printed as one JSON line on stdout (run by bench.runner).
 
     python -m rustycs_cli.bench.worker step ENGINE SCENE [--max-ticks N] [--block N] [--metrics a,b]
-    python -m rustycs_cli.bench.worker record SCENE [--max-ticks N]
+                                            [--sleep] [--threads N]
+    python -m rustycs_cli.bench.worker record SCENE [--max-ticks N] [--sleep] [--threads N]
     python -m rustycs_cli.bench.worker first-step
 
 `step` builds SCENE (a scene file, or `scaling:N`) in ENGINE (rustycs, pymunk or pyb2d3) and times
@@ -10,6 +11,8 @@ blocks of `--block` ticks (world.step(n) runs a block in compiled code), the pee
 tick, with the attractor force set from Python before each, as the peer harness does. `record` times
 what `rustycs run` does with the scene (every tick recorded to HDF5) and its peak memory. `first-step`
 times importing rustycs and its first step (compiling the kernels, or loading them from the cache).
+`--sleep` lets bodies at rest sleep (in every engine, after the same time at rest); `--threads` is the
+threads inside one world (rustycs's world.threads, pyb2d3's workers, pymunk's threaded space).
 """
 
 from __future__ import annotations
@@ -25,35 +28,40 @@ import numpy as np
 ENGINES = ("rustycs", "pymunk", "pyb2d3")
 
 
-def load(ref: str) -> Any:
-    """The LoadedScene of a scene file or of `scaling:N`."""
+def load(ref: str, sleep: bool) -> Any:
+    """The LoadedScene of a scene file or of `scaling:N`, sleeping after the peers' time at rest or not
+    at all (whatever the scene says: every engine runs alike, and so do `step` and `record`)."""
     from ..loading import load_scene, load_scene_text
+    from .peers import SLEEP_TIME
     from .scenes import SCALING_PREFIX, scaling_scene_text
 
+    overrides = (f"world.sleep={str(sleep).lower()}", f"world.sleep_time={SLEEP_TIME}")
     if ref.startswith(SCALING_PREFIX):
         count = int(ref[len(SCALING_PREFIX):])
-        return load_scene_text(scaling_scene_text(count), ref)
-    return load_scene(ref)
+        return load_scene_text(scaling_scene_text(count), ref, overrides)
+    return load_scene(ref, overrides)
 
 
-def step(engine: str, ref: str, max_ticks: int | None, block: int, metrics: list[str]) -> dict[str, Any]:
-    """Time the scene's ticks (at most `max_ticks`) in `engine`; report ms per tick and the quality
-    measures."""
+def step(engine: str, ref: str, max_ticks: int | None, block: int, metrics: list[str], sleep: bool,
+         threads: int) -> dict[str, Any]:
+    """Time the scene's ticks (at most `max_ticks`) in `engine`, sleeping or not, with `threads` threads
+    inside the world; report ms per tick and the quality measures."""
     from ..build import build_world
     from . import peers, quality
     from .spec import describe
 
-    scene = load(ref).scene
+    scene = load(ref, sleep).scene
     ticks = scene.world.ticks if max_ticks is None else min(max_ticks, scene.world.ticks)
     began = time.perf_counter()
     world = build_world(scene)
+    world.threads = threads
     bench = describe(scene, world)
     start = np.column_stack([world.positions, world.angles])
     perf = time.perf_counter
     if engine == "rustycs":
         from ..simulation import warm_up
 
-        warm_up()  # compiling or loading the kernels is not stepping, nor is making the step's buffers
+        warm_up(threads)  # compiling or loading the kernels is not stepping, nor is making the buffers
         world.prepare()
         build_s = perf() - began
         elapsed = 0.0
@@ -66,8 +74,9 @@ def step(engine: str, ref: str, max_ticks: int | None, block: int, metrics: list
             done += count
         end = np.column_stack([world.positions, world.angles])
         active = world.active
+        ran = dict(sleep=world.sleep, threads=world.threads)
     else:
-        peer = peers.build(engine, bench)
+        peer = peers.build(engine, bench, sleep, threads)
         build_s = perf() - began
         tick = peer.step
         t0 = perf()
@@ -76,31 +85,34 @@ def step(engine: str, ref: str, max_ticks: int | None, block: int, metrics: list
         elapsed = perf() - t0
         end = np.array(peer.poses(), dtype=np.float64).reshape(-1, 3)
         active = None
+        ran = dict(sleep=peer.sleep, threads=peer.threads)
     moving = sum(b.body_type == "dynamic" for b in bench.bodies)
     return dict(engine=engine, scene=scene.name, bodies=moving, ticks=ticks,
                 block=block if engine == "rustycs" else 1, seconds=elapsed,
-                ms_per_tick=1e3 * elapsed / max(ticks, 1), build_s=build_s,
+                ms_per_tick=1e3 * elapsed / max(ticks, 1), build_s=build_s, **ran,
                 quality=quality.measure(metrics, bench, start, end, active))
 
 
-def record(ref: str, max_ticks: int | None) -> dict[str, Any]:
+def record(ref: str, max_ticks: int | None, sleep: bool, threads: int) -> dict[str, Any]:
     """The cost per tick of `rustycs run` recording every tick (into a temporary file), and the peak
-    memory. Building the world and opening and closing the file are taken out: a run of 0 ticks is
-    timed too and subtracted (after an untimed one that pays the imports)."""
+    memory, sleeping and threaded as the stepping it is put against. Building the world and opening and
+    closing the file are taken out: a run of 0 ticks is timed too and subtracted (after an untimed one
+    that pays the imports)."""
     import resource
     import tempfile
     from pathlib import Path
 
     from ..simulation import run_scene, warm_up
 
-    loaded = load(ref)
+    loaded = load(ref, sleep)
     ticks = loaded.scene.world.ticks if max_ticks is None else min(max_ticks, loaded.scene.world.ticks)
-    warm_up()
+    warm_up(threads)
     with tempfile.TemporaryDirectory(prefix="rustycs-bench-") as folder:
 
         def timed_run(count: int) -> tuple[float, Any]:
             began = time.perf_counter()
-            run = run_scene(loaded, Path(folder) / f"run-{count}.h5", count, every=1, quiet=True)
+            run = run_scene(loaded, Path(folder) / f"run-{count}.h5", count, every=1, quiet=True,
+                            threads=threads)
             if run.status != "complete":
                 raise SystemExit(run.message or run.status)
             return time.perf_counter() - began, run
@@ -139,13 +151,17 @@ def main(argv: list[str] | None = None) -> None:
     recorded = sub.add_parser("record")
     recorded.add_argument("scene")
     recorded.add_argument("--max-ticks", type=int)
+    for mode in (timed, recorded):
+        mode.add_argument("--sleep", action="store_true")
+        mode.add_argument("--threads", type=int, default=1)
     sub.add_parser("first-step")
     args = parser.parse_args(argv)
     if args.mode == "step":
         metrics = [m for m in args.metrics.split(",") if m]
-        result: dict[str, Any] = step(args.engine, args.scene, args.max_ticks, args.block, metrics)
+        result: dict[str, Any] = step(args.engine, args.scene, args.max_ticks, args.block, metrics,
+                                      args.sleep, args.threads)
     elif args.mode == "record":
-        result = record(args.scene, args.max_ticks)
+        result = record(args.scene, args.max_ticks, args.sleep, args.threads)
     else:
         result = first_step()
     sys.stdout.write(json.dumps(result) + "\n")

@@ -8,6 +8,10 @@ from pathlib import Path
 
 import typer
 
+from rustycs.defaults import MAX_THREADS
+
+from ..bench.peers import PYMUNK_MAX_THREADS, SLEEP_TIME
+
 NAME = "bench"
 
 
@@ -26,6 +30,11 @@ def command(
     ticks: int = typer.Option(None, "--ticks", min=1, help="Step at most N ticks per run (default: the "
                               "scene's world.ticks; the scaling series runs 300)."),
     block: int = typer.Option(100, "--block", min=1, help="Ticks per world.step(n) call of rustycs."),
+    sleep: bool = typer.Option(False, "--sleep", help=f"Bodies at rest for {SLEEP_TIME} s sleep, in every "
+                               "engine (default: sleeping off)."),
+    threads: int = typer.Option(1, "--threads", min=1, max=MAX_THREADS,
+                                help="Threads inside one world: rustycs's world.threads, Box2D v3's workers, "
+                                f"pymunk's threaded space ({PYMUNK_MAX_THREADS} at most)."),
     scaling: bool = typer.Option(True, "--scaling/--no-scaling",
                                  help="Also the scaling series: 1k, 4k and 16k circles in a container."),
     compile_: bool = typer.Option(True, "--compile/--no-compile",
@@ -47,7 +56,7 @@ def command(
     engines are missing.
 
     Examples: rustycs bench --scenes S2 S4 --peers --reps 3 --no-scaling;
-    rustycs bench compounds --peers --no-scaling --no-compile
+    rustycs bench compounds --peers --no-scaling --no-compile --sleep --threads 2
     """
     from ..bench import peers as peer_engines
     from ..bench.report import print_report
@@ -62,7 +71,7 @@ def command(
                         "pip install 'rustycs[bench]'")
     plan = Plan(scenes=found, engines=("rustycs", *peer_engines.ENGINES) if peers else ("rustycs",),
                 reps=reps, max_ticks=ticks, block=block, compile=compile_, scaling=scaling,
-                recording=recording,
+                recording=recording, sleep=sleep, threads=threads,
                 command=shlex.join(["rustycs", *sys.argv[1:]]))
 
     def progress(line: str) -> None:
