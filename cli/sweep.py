@@ -4,8 +4,9 @@ Every variant is validated before any runs, so a typo in one value cannot waste 
 Each variant writes its own trajectory (never two processes in one file), and the sweep tables are
 rewritten atomically at the end; a variant whose trajectory is already complete for the same resolved
 scene is skipped, which makes an interrupted sweep resumable by running the same command again.
-Variants run on local processes, in this process (one worker), or on a Dask cluster through its
-concurrent.futures executor: all three go through `run_variants`, the unit of work.
+Variants run on local threads or processes, in this process (one worker), or on a Dask cluster through
+its concurrent.futures executor: all go through `run_variants`, the unit of work, which steps variants
+of the same size together as one batch of worlds (`simulation.run_batch`).
 """
 
 from __future__ import annotations
@@ -32,8 +33,11 @@ from .sweep_values import SweptKey
 if TYPE_CHECKING:
     from concurrent.futures import Executor, Future
 
+    from .simulation import RunResult
+
 CONNECT_TIMEOUT = 10.0  # seconds to reach a Dask scheduler
 MAX_SLUG = 80
+BATCH = 16  # variants per batch of worlds at most: each holds an open trajectory until it ends
 FAILED = "failed"  # status of a variant that raised instead of finishing a run
 
 
@@ -75,6 +79,7 @@ class Variant:
     sha256: str
     expected_ticks: int
     expected_bytes: int  # about how large its trajectory gets
+    size: tuple[int, int, int, bool]  # bodies, ticks, every, contacts: variants of one size batch together
 
 
 @dataclass
@@ -137,9 +142,11 @@ def plan_sweep(
         output = folder / f"{scene_name}-{index:0{width}d}-{_slug(label)}.h5"
         task = VariantTask(index, scene.resolve(), overrides, output.resolve(), ticks, every, True)
         expected = ticks if ticks is not None else loaded.scene.world.run_ticks
-        size = estimated_bytes(len(loaded.scene.bodies), expected,
-                               every if every is not None else loaded.scene.output.every)
-        variants.append(Variant(parameters, label, task, loaded.sha256, expected, size))
+        interval = every if every is not None else loaded.scene.output.every
+        bodies = len(loaded.scene.bodies)
+        variants.append(Variant(parameters, label, task, loaded.sha256, expected,
+                                estimated_bytes(bodies, expected, interval),
+                                (bodies, expected, interval, loaded.scene.output.contacts)))
     if problems:
         raise UserError(_name_variants(problems, len(combinations)))
     return SweepPlan(scene_name, folder, swept, variants)
@@ -210,20 +217,53 @@ def run_variant(task: VariantTask) -> VariantOutcome:
         loaded = load_source(task.scene, task.overrides)
         result = run_scene(loaded, task.output, ticks=task.ticks, every=task.every, quiet=True,
                            allow_full_disk=task.allow_full_disk)
-    except UserError as err:
-        return VariantOutcome(task.index, FAILED, error="; ".join(err.messages))
     except Exception as err:  # a crashed variant must not stop the others
-        return VariantOutcome(task.index, FAILED, error=f"{type(err).__name__}: {err}")
-    return VariantOutcome(task.index, result.status, dict(result.summary), result.message)
+        return _outcome(task.index, err)
+    return _outcome(task.index, result)
+
+
+def _outcome(index: int, result: RunResult | Exception) -> VariantOutcome:
+    """A variant's outcome from its run's result or the error that ended it."""
+    if isinstance(result, UserError):
+        return VariantOutcome(index, FAILED, error="; ".join(result.messages))
+    if isinstance(result, Exception):
+        return VariantOutcome(index, FAILED, error=f"{type(result).__name__}: {result}")
+    return VariantOutcome(index, result.status, dict(result.summary), result.message)
 
 
 def run_variants(tasks: Sequence[VariantTask]) -> list[VariantOutcome]:
-    """Run variants one after another in this process: the unit of work sent to a worker.
+    """Run variants of one size (`units`) as one batch of worlds in this process: the unit of work sent
+    to a worker. Each variant's trajectory is bitwise the one it has run alone."""
+    from .simulation import load_source, run_batch
 
-    This is the seam for batching: variants that share the same bodies could step together here as
-    one batch of worlds, with the dispatcher sending them as one list.
-    """
-    return [run_variant(task) for task in tasks]
+    if len(tasks) == 1:
+        return [run_variant(tasks[0])]
+    outcomes: dict[int, VariantOutcome] = {}
+    loaded = []
+    for task in tasks:
+        try:
+            loaded.append((task, load_source(task.scene, task.overrides)))
+        except UserError as err:
+            outcomes[task.index] = _outcome(task.index, err)
+    first = tasks[0]
+    results = run_batch([(scene, task.output) for task, scene in loaded], first.ticks, first.every,
+                        quiet=True, allow_full_disk=first.allow_full_disk)
+    for (task, _), result in zip(loaded, results, strict=True):
+        outcomes[task.index] = _outcome(task.index, result)
+    return [outcomes[task.index] for task in tasks]
+
+
+def units(variants: Sequence[Variant], workers: int, batch: int = BATCH) -> list[list[VariantTask]]:
+    """The variants' tasks in units of work: variants of one size (bodies, ticks, recording) in batches
+    of at most `batch`, each size's variants spread evenly over the workers, in the variants' order."""
+    by_size: dict[tuple[int, int, int, bool], list[VariantTask]] = {}
+    for variant in variants:
+        by_size.setdefault(variant.size, []).append(variant.task)
+    found = []
+    for tasks in by_size.values():
+        per_unit = max(1, min(batch, -(-len(tasks) // max(workers, 1))))
+        found += [tasks[k:k + per_unit] for k in range(0, len(tasks), per_unit)]
+    return sorted(found, key=lambda unit: unit[0].index)
 
 
 def _ignore_sigint() -> None:
@@ -260,27 +300,30 @@ def _interrupt_pool_workers() -> None:
 
 
 def dispatch(
-    tasks: Sequence[VariantTask],
+    tasks: Sequence[list[VariantTask]],
     record: Callable[[VariantOutcome], None],
     workers: int,
     scheduler: str | None = None,
     local: str = "threads",
 ) -> bool:
-    """Run the tasks, passing each outcome to `record` as it arrives; True when interrupted.
+    """Run the units of tasks (`units`), passing each outcome to `record` as it arrives; True when
+    interrupted.
 
-    In this process when one worker suffices; otherwise, locally, as a batch of worlds stepping in
-    parallel threads of this process (`local="threads"`: the engine's step releases the GIL, and the
-    compiled kernels are loaded once) or on a process pool (`"processes"`); with a scheduler address,
-    on a Dask cluster. The sweep stops at Ctrl-C or at the first interrupted variant.
+    In this process when one worker suffices; otherwise, locally, in parallel threads of this process
+    (`local="threads"`: the engine's step releases the GIL, and the compiled kernels are loaded once)
+    or on a process pool (`"processes"`); with a scheduler address, on a Dask cluster. The sweep stops
+    at Ctrl-C or at the first interrupted variant.
     """
     if not tasks:
         return False
     if scheduler is None and min(workers, len(tasks)) == 1:
-        for task in tasks:
-            for outcome in run_variants([task]):
+        for unit in tasks:
+            interrupted = False
+            for outcome in run_variants(unit):
                 record(outcome)
-                if outcome.status == "interrupted":
-                    return True
+                interrupted |= outcome.status == "interrupted"
+            if interrupted:
+                return True
         return False
     if scheduler is not None:
         client = _dask_client(scheduler)
@@ -310,20 +353,20 @@ def dispatch(
 
 def _run_on_executor(
     executor: Executor,
-    tasks: Sequence[VariantTask],
+    tasks: Sequence[list[VariantTask]],
     record: Callable[[VariantOutcome], None],
     window: int,
     interrupt: Callable[[], None],
 ) -> bool:
-    """Keep `window` variants in flight, record outcomes in completion order; True when interrupted.
+    """Keep `window` units in flight, record outcomes in completion order; True when interrupted.
 
-    Only as many variants as can run are submitted, so that after Ctrl-C nothing queued starts: the
+    Only as many units as can run are submitted, so that after Ctrl-C nothing queued starts: the
     running ones are interrupted (their outcomes recorded when they come back) and the rest never run.
     """
     from concurrent.futures import FIRST_COMPLETED, wait
 
     pending = iter(tasks)
-    running: dict[Future[list[VariantOutcome]], VariantTask] = {}
+    running: dict[Future[list[VariantOutcome]], list[VariantTask]] = {}
     interrupted = False
 
     def collect(future: Future[list[VariantOutcome]]) -> None:
@@ -334,8 +377,8 @@ def _run_on_executor(
 
     try:
         while not interrupted:
-            while len(running) < window and (task := next(pending, None)) is not None:
-                running[executor.submit(run_variants, [task])] = task
+            while len(running) < window and (unit := next(pending, None)) is not None:
+                running[executor.submit(run_variants, unit)] = unit
             if not running:
                 return False
             # a short timeout: a signal caught by a worker thread only runs its handler once the main
@@ -351,8 +394,8 @@ def _run_on_executor(
     return True
 
 
-def _outcomes(future: Future[list[VariantOutcome]], task: VariantTask) -> list[VariantOutcome]:
-    """A finished unit's outcomes; a lost worker is a failure, a cancelled unit has none."""
+def _outcomes(future: Future[list[VariantOutcome]], unit: list[VariantTask]) -> list[VariantOutcome]:
+    """A finished unit's outcomes; a lost worker is a failure of its variants, a cancelled unit has none."""
     from concurrent.futures import CancelledError
 
     try:
@@ -360,7 +403,7 @@ def _outcomes(future: Future[list[VariantOutcome]], task: VariantTask) -> list[V
     except CancelledError:
         return []
     except Exception as err:  # e.g. a worker process killed by the OS
-        return [VariantOutcome(task.index, FAILED, error=f"{type(err).__name__}: {err}")]
+        return [VariantOutcome(task.index, FAILED, error=f"{type(err).__name__}: {err}") for task in unit]
 
 
 def _dask_client(address: str) -> Any:
@@ -434,10 +477,11 @@ def run_sweep(
     quiet: bool = False,
     local: str = "threads",
     allow_full_disk: bool = False,
+    batch: int = BATCH,
 ) -> SweepResult:
     """Skip finished variants, run the others, write sweep.csv and sweep.json, and return the result.
     Variants whose trajectories together would not fit on the disk are refused before any runs, unless
-    `allow_full_disk`.
+    `allow_full_disk`. Variants of one size step together, `batch` at a time (`units`).
 
     `quiet` silences the one-line notice when the engine must first be compiled. Ctrl-C or SIGTERM
     stops the sweep: running variants end as interrupted (their frames kept), the
@@ -452,11 +496,11 @@ def run_sweep(
     for variant in plan.variants:
         outcome = finished_outcome(variant)
         if outcome is None:
-            pending.append(variant.task)
+            pending.append(variant)
         else:
             _record(result, by_index, outcome, on_outcome)
     if not allow_full_disk:
-        needed = sum(by_index[task.index].expected_bytes for task in pending)
+        needed = sum(variant.expected_bytes for variant in pending)
         check_free_space(plan.out_dir / "sweep.json", needed)
     plan.out_dir.mkdir(parents=True, exist_ok=True)
     try:
@@ -464,8 +508,8 @@ def run_sweep(
             _compile_engine_once(quiet)
         with _terminate_as_interrupt():
             result.interrupted = dispatch(
-                pending, lambda outcome: _record(result, by_index, outcome, on_outcome), workers, scheduler,
-                local,
+                units(pending, workers, batch),
+                lambda outcome: _record(result, by_index, outcome, on_outcome), workers, scheduler, local,
             )
     except KeyboardInterrupt:  # between two variants run in this process
         result.interrupted = True

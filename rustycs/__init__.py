@@ -3,6 +3,7 @@
 The engine does no I/O: build a World, step it, read its arrays. See API.md.
 """
 
+from rustycs.batch import WorldBatch
 from rustycs.kernel_cache import compile_needed
 from rustycs.materials import MATERIALS, Material
 from rustycs.scene_files import SceneError, load_scene, open_trajectory
@@ -11,6 +12,6 @@ from rustycs.world import SimulationDiverged, World
 
 __version__ = "0.1.0"
 
-__all__ = ["World", "Circle", "Box", "Polygon", "Capsule", "Segment", "Chain", "Material", "MATERIALS",
-           "SimulationDiverged", "compile_needed", "load_scene", "open_trajectory", "SceneError",
+__all__ = ["World", "WorldBatch", "Circle", "Box", "Polygon", "Capsule", "Segment", "Chain", "Material",
+           "MATERIALS", "SimulationDiverged", "compile_needed", "load_scene", "open_trajectory", "SceneError",
            "__version__"]

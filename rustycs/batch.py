@@ -14,11 +14,10 @@ from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
-from numba.typed import List
 
 from rustycs.step import BAD_BODY, FRAMES, STATUS_FIELDS, step_worlds
-from rustycs.stepper import CLOCK_FIELDS
-from rustycs.world import World
+from rustycs.stepper import CLOCK_FIELDS, add_stepper, stepper_list
+from rustycs.world import SimulationDiverged, World
 
 
 class WorldBatch:
@@ -76,20 +75,30 @@ class WorldBatch:
             self.worlds[i]._workspace_replaced()
         bad = np.flatnonzero(self._status[:, BAD_BODY] >= 0)
         if len(bad):
-            self.worlds[bad[0]]._diverged()
+            raise self.worlds[bad[0]]._divergence()
+        return self.frames
+
+    @property
+    def frames(self) -> np.ndarray:
+        """The frames each world recorded in the last `step`."""
         return self._status[:, FRAMES].copy()
+
+    def divergences(self) -> dict[int, SimulationDiverged]:
+        """The error of each world whose state became non-finite in the last `step`, by its index."""
+        return {int(i): self.worlds[i]._divergence() for i in np.flatnonzero(self._status[:, BAD_BODY] >= 0)}
 
     def _list(self) -> None:
         """The typed list of the worlds' steppers, made again when one of them was."""
         if self._steppers is not None and all(
                 world._stepper is listed for world, listed in zip(self.worlds, self._listed, strict=True)):
             return
-        steppers = List()
-        for world in self.worlds:
-            if steppers and world._stepper._type != steppers[0]._type:
+        first = self.worlds[0]._stepper
+        steppers = stepper_list(first)
+        for world in self.worlds[1:]:
+            if world._stepper._type != first._type:
                 raise ValueError("the worlds of a batch must have the same make-up of records (they differ "
                                  "in the layout of their arrays)")
-            steppers.append(world._stepper)
+            add_stepper(steppers, world._stepper)
         self._steppers = steppers
         self._listed = [world._stepper for world in self.worlds]
 

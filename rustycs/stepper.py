@@ -22,6 +22,7 @@ from numba.core import cgutils
 from numba.core.runtime.nrtdynmod import _meminfo_struct_type
 from numba.experimental import structref
 from numba.extending import intrinsic
+from numba.typed import List
 
 
 @structref.register
@@ -92,3 +93,18 @@ def borrowed(typingctx, stepper):
 def workspace_of(stepper):
     """The stepper's workspace (after `step_world` grew it)."""
     return stepper.workspace
+
+
+@njit(cache=True)
+def stepper_list(first):
+    """A typed list holding `first`, for `step_worlds`. Made in compiled code, which is cached: numba's
+    own `List.append` from Python compiles for a new item type in every process (0.22 s)."""
+    steppers = List()
+    steppers.append(first)
+    return steppers
+
+
+@njit(cache=True)
+def add_stepper(steppers, stepper):
+    """Append to a list of `stepper_list`, in cached compiled code."""
+    steppers.append(stepper)

@@ -569,17 +569,18 @@ class World(BodyControl, WorldQueries, WorldScenario):
         if self._entry(self._stepper, n, every):
             self._workspace_replaced()
         if self._status[BAD_BODY] >= 0:
-            self._diverged()
+            raise self._divergence()
         return int(self._status[FRAMES])
 
     def _workspace_replaced(self) -> None:
         """Take the workspace the step grew (boxing it back costs about 80 us: only when it was replaced)."""
         self._workspace = workspace_of(self._stepper)
 
-    def _diverged(self) -> None:
+    def _divergence(self) -> SimulationDiverged:
+        """The error of a step whose state became non-finite."""
         body = int(self._status[BAD_BODY])
-        raise SimulationDiverged(self.tick, body, f"non-finite state in tick {self.tick} at body {body}",
-                                 int(self._status[FRAMES]))
+        return SimulationDiverged(self.tick, body, f"non-finite state in tick {self.tick} at body {body}",
+                                  int(self._status[FRAMES]))
 
     def prepare(self) -> None:
         """Make what stepping needs now instead of in the next `step`: the kernels' records, the step's

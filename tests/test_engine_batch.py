@@ -97,12 +97,16 @@ def test_a_stop_condition_ends_only_its_worlds_block():
 
 
 def test_a_divergence_raises_for_its_world_after_every_block():
-    calm, broken = small_world(4), small_world(5)
+    calm, broken, also = small_world(4), small_world(5), small_world(6)
     broken.set_velocity(2, (np.nan, 0.0))
-    with WorldBatch([calm, broken]) as batch, pytest.raises(SimulationDiverged) as error:
-        batch.step(10)
-    assert error.value.body == 2 and broken.tick == 1
+    also.set_velocity(3, (0.0, np.inf))
+    with WorldBatch([calm, broken, also]) as batch:
+        with pytest.raises(SimulationDiverged) as error:
+            batch.step(10)
+        found = batch.divergences()
+    assert error.value.body == 2 and broken.tick == 1 and also.tick == 1
     assert calm.tick == 10
+    assert sorted(found) == [1, 2] and (found[1].body, found[2].body) == (2, 3)
 
 
 def test_a_batch_refuses_what_it_cannot_step():

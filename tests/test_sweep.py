@@ -112,6 +112,28 @@ def test_grid_2x3_with_range_then_resume(cli, tiny, tmp_path, compiled_engine, l
     assert all(files[i].stat().st_mtime_ns == mtimes[files[i]] for i in (0, 1, 2, 4, 5))
 
 
+def test_a_batch_of_variants_gives_each_its_own_run(cli, tiny, tmp_path, compiled_engine):
+    """Variants of one size step together (two sizes here: 20 and 30 ticks); each trajectory and summary
+    is bitwise the one the variant has run alone, also for variants whose stop condition ends them early
+    (leaving the batch) and for recording every 3 ticks."""
+    args = ("sweep", tiny, "-p", "bodies.ball.position=[0,0.3],[0,0.8],[0,2.5]", "-p", "world.ticks=20,30",
+            "-s", "world.stop_when=[{event: contact_begin, bodies: [ball, floor]}]", "--every", "3",
+            "-w", "1", "--json")
+    together = json.loads(cli(*args, "--out", tmp_path / "batch").stdout)
+    alone = json.loads(cli(*args, "--out", tmp_path / "alone", "--batch", "1").stdout)
+    assert [(row["status"], row["ticks"]) for row in together] == [
+        ("stopped", 9), ("stopped", 9), ("complete", 20), ("stopped", 21), ("complete", 20), ("complete", 30)]
+    timing = ("wall_seconds", "step_seconds", "ticks_per_second", "output")
+    for one, other in zip(together, alone, strict=True):
+        assert {k: v for k, v in one.items() if k not in timing} == {
+            k: v for k, v in other.items() if k not in timing}
+        with h5py.File(one["output"]) as a, h5py.File(other["output"]) as b:
+            for name in ("position/value", "position/step", "velocity/value", "angle/value",
+                         "angular_velocity/value"):
+                path = f"particles/bodies/{name}"
+                assert a[path][()].tobytes() == b[path][()].tobytes()
+
+
 def test_changed_scene_is_not_resumed(cli, tiny, tmp_path, compiled_engine):
     out = tmp_path / "s"
     assert cli("sweep", tiny, "-p", "world.precision=3,5", "--out", out, "-w", "1", "-q").exit_code == 0
@@ -124,20 +146,28 @@ def test_changed_scene_is_not_resumed(cli, tiny, tmp_path, compiled_engine):
     assert [(row["skipped"], row["ticks"]) for row in json.loads(longer.stdout)] == [(False, 25)] * 2
 
 
+def nan_world_at_tick_rate_61(monkeypatch) -> None:
+    """Scenes cannot make the engine diverge (the limits): a world built at 61 Hz gets a NaN velocity."""
+    import rustycs_cli.build
+
+    real = rustycs_cli.build.build_world
+
+    def build_world(scene, plan):
+        world = real(scene, plan)
+        if scene.world.tick_rate == 61:
+            world.set_velocity(1, (float("nan"), 0.0))
+        return world
+
+    monkeypatch.setattr(rustycs_cli.build, "build_world", build_world)
+
+
+@pytest.mark.parametrize("batch", ["1", "16"])
 def test_diverging_variant_is_reported_while_others_complete(cli, tiny, tmp_path, compiled_engine,
-                                                             monkeypatch):
-    import rustycs
-
-    original = rustycs.World.step
-
-    def step(world, n: int = 1, record=None, every: int = 1) -> int:
-        if world.tick_rate == 61:  # scenes cannot make the engine diverge (the limits): this one does
-            raise rustycs.SimulationDiverged(world.tick + 1, 0, "non-finite state", frames=0)
-        return original(world, n, record, every)
-
-    monkeypatch.setattr(rustycs.World, "step", step)
+                                                             monkeypatch, batch):
+    nan_world_at_tick_rate_61(monkeypatch)
     out = tmp_path / "div"
-    result = cli("sweep", tiny, "-p", "world.tick_rate=60,61,30", "--out", out, "-w", "2", "--json")
+    result = cli("sweep", tiny, "-p", "world.tick_rate=60,61,30", "--out", out, "-w", "2", "--batch", batch,
+                 "--json")
     assert result.exit_code == 1
     rows = json.loads(result.stdout)
     assert [row["status"] for row in rows] == ["complete", "diverged", "complete"]
@@ -150,19 +180,21 @@ def test_diverging_variant_is_reported_while_others_complete(cli, tiny, tmp_path
     assert [row["skipped"] for row in again] == [True, False, True]
 
 
-def test_crashing_variant_is_recorded(cli, tiny, tmp_path, monkeypatch, compiled_engine):
-    import rustycs_cli.simulation
+@pytest.mark.parametrize("batch", ["1", "16"])
+def test_crashing_variant_is_recorded(cli, tiny, tmp_path, monkeypatch, compiled_engine, batch):
+    import rustycs_cli.build
 
-    real = rustycs_cli.simulation.run_scene
+    real = rustycs_cli.build.build_world
 
-    def crash_on_metal(loaded, out, **kwargs):
-        if "bodies.crate.material=metal" in loaded.overrides:
+    def crash_on_metal(scene, plan):
+        if scene.bodies[2].material == "metal":
             raise RuntimeError("boom")
-        return real(loaded, out, **kwargs)
+        return real(scene, plan)
 
-    monkeypatch.setattr(rustycs_cli.simulation, "run_scene", crash_on_metal)
+    monkeypatch.setattr(rustycs_cli.build, "build_world", crash_on_metal)
     out = tmp_path / "crash"
-    result = cli("sweep", tiny, "-p", "bodies.crate.material=stone,metal,rubber", "--out", out, "-w", "1")
+    result = cli("sweep", tiny, "-p", "bodies.crate.material=stone,metal,rubber", "--out", out, "-w", "1",
+                 "--batch", batch)
     assert result.exit_code == 1
     assert "variant 1 (bodies.crate.material=metal) failed: RuntimeError: boom" in result.stderr
     rows, csv_rows = read_rows(out)
@@ -228,7 +260,7 @@ def test_keyboard_interrupt_between_variants_then_resume(cli, tiny, tmp_path, mo
 
     monkeypatch.setattr(rustycs_cli.simulation, "run_scene", ctrl_c_before_variant_1)
     out = tmp_path / "ctrl-c"
-    args = ("sweep", tiny, "-p", "world.precision=3,5,7", "--out", out, "-w", "1", "--json")
+    args = ("sweep", tiny, "-p", "world.precision=3,5,7", "--out", out, "-w", "1", "--batch", "1", "--json")
     result = cli(*args)
     assert result.exit_code == 130 and "run the same command again to resume" in result.stderr
     assert [row["status"] for row in json.loads(result.stdout)] == ["complete", "not run", "not run"]
@@ -240,21 +272,24 @@ def test_keyboard_interrupt_between_variants_then_resume(cli, tiny, tmp_path, mo
 
 
 @pytest.mark.usefixtures("compiled_engine")
-@pytest.mark.parametrize("signum, whole_group, local", [(signal.SIGINT, True, "processes"),
-                                                        (signal.SIGTERM, False, "processes"),
-                                                        (signal.SIGINT, True, "threads")])
-def test_signal_stops_a_pool_sweep(tiny, tmp_path, signum, whole_group, local):
+@pytest.mark.parametrize("signum, whole_group, local, batch", [(signal.SIGINT, True, "processes", 1),
+                                                               (signal.SIGTERM, False, "processes", 1),
+                                                               (signal.SIGINT, True, "threads", 1),
+                                                               (signal.SIGINT, True, "threads", 2),
+                                                               (signal.SIGTERM, False, "processes", 2)])
+def test_signal_stops_a_pool_sweep(tiny, tmp_path, signum, whole_group, local, batch):
     """Ctrl-C in a terminal (SIGINT to the process group) or SIGTERM to the sweep alone: running
-    variants stop with valid files, the third never starts, the tables are written, exit 130."""
+    variants stop with valid files, the others never start, the tables are written, exit 130. Each of
+    the two workers runs a batch of `batch` variants."""
     out = tmp_path / "sig"
     process = subprocess.Popen(
         [sys.executable, "-c", "from rustycs_cli.app import main; main()", "sweep", str(tiny),
-         "-p", "world.precision=3,5,7", "--ticks", "100000000", "--out", str(out), "-w", "2",
-         "--local", local, "--json"],
+         "-p", "world.precision=3,5,7,9,11", "--ticks", "100000000", "--out", str(out), "-w", "2",
+         "--local", local, "--batch", str(batch), "--allow-full-disk", "--json"],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
     )
     deadline = time.monotonic() + 120
-    while len(list(out.glob(".*.tmp-*"))) < 2:  # both workers are running a variant
+    while len(list(out.glob(".*.tmp-*"))) < 2 * batch:  # both workers are running
         assert process.poll() is None and time.monotonic() < deadline, process.communicate()
         time.sleep(0.05)
     time.sleep(1.0)
@@ -266,11 +301,12 @@ def test_signal_stops_a_pool_sweep(tiny, tmp_path, signum, whole_group, local):
     assert process.returncode == 130, stderr
     assert "Traceback" not in stderr
     rows = json.loads(stdout)
-    assert [row["status"] for row in rows] == ["interrupted", "interrupted", "not run"]
-    for row in rows[:2]:
+    ran = 2 * batch
+    assert [row["status"] for row in rows] == ["interrupted"] * ran + ["not run"] * (5 - ran)
+    for row in rows[:ran]:
         with h5py.File(row["output"]) as file:
             assert file["parameters"].attrs["ticks_completed"] == row["ticks"] > 0
-    assert not list(out.glob(".*.tmp-*")) and not Path(rows[2]["output"]).exists()
+    assert not list(out.glob(".*.tmp-*")) and not any(Path(row["output"]).exists() for row in rows[ran:])
 
 
 def test_cold_engine_is_compiled_once_before_the_workers(cli, tiny, tmp_path, monkeypatch, compiled_engine):

@@ -32,8 +32,13 @@ def command(
     ),
     local: str = typer.Option(
         "threads", "--local", metavar="threads|processes",
-        help="How local workers run: 'threads' steps the variants as a batch of worlds in parallel "
-        "threads of one process (faster: see README), 'processes' one process per variant.",
+        help="How local workers run: 'threads' in parallel threads of one process (faster: see README), "
+        "'processes' one process per worker.",
+    ),
+    batch: int = typer.Option(
+        16, "--batch", min=1, max=1024, metavar="N",
+        help="Variants of the same size (bodies, ticks, recording) step together as one batch of worlds, "
+        "up to N at a time; 1 runs them one by one.",
     ),
     scheduler: str | None = typer.Option(
         None, "--scheduler", metavar="ADDRESS",
@@ -92,7 +97,7 @@ def command(
     show = not (quiet or as_json)
     with variant_progress(not quiet, len(plan.variants), f"sweep {plan.scene_name}") as on_outcome:
         result = run_sweep(plan, workers or default_workers(), scheduler, on_outcome, quiet=quiet,
-                           local=local, allow_full_disk=allow_full_disk)
+                           local=local, allow_full_disk=allow_full_disk, batch=batch)
     if as_json:
         print(to_json(result.rows()))
     elif show:
