@@ -74,20 +74,21 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
 
     run = _run_calls(loaded, out, ticks, every, contacts, progress, compress=compress, quiet=quiet,
                      started=started, allow_full_disk=allow_full_disk, threads=threads)
+    outcome: Stepped | None = None  # the first `send` starts the run
+    pace: Pace | None = None
     with _stop_requests() as stop_requested:
-        calls = next(run)
-        pace = Pace(calls.every, calls.most)
         while True:
-            if stop_requested():
-                outcome = Stepped(interrupted=True)
-            else:
-                count, call_every = pace.next_call(calls.world.tick, calls.ticks)
-                outcome = _step(calls.world, count, calls.frames if call_every else None, call_every)
-                pace.took(count, outcome.seconds)
             try:
-                run.send(outcome)
+                calls = run.send(outcome)
             except StopIteration as end:
                 return end.value
+            pace = pace or Pace(calls.every, calls.most)
+            if stop_requested():
+                outcome = Stepped(interrupted=True)
+                continue
+            count, call_every = pace.next_call(calls.world.tick, calls.ticks)
+            outcome = _step(calls.world, count, calls.frames if call_every else None, call_every)
+            pace.took(count, outcome.seconds)
 
 
 def run_batch(scenes: Sequence[tuple[LoadedScene, Path]], ticks: int | None = None, every: int | None = None,
@@ -105,19 +106,17 @@ def run_batch(scenes: Sequence[tuple[LoadedScene, Path]], ticks: int | None = No
     from .run_pace import Pace
 
     results: list[RunResult | Exception | None] = [None] * len(scenes)
-    runs: dict[int, tuple[Generator[Calls, Stepped, RunResult], Calls]] = {}
+    runs: dict[int, tuple[Generator[Calls, Stepped | None, RunResult], Calls]] = {}
 
     def advance(index: int, outcome: Stepped | None) -> None:
-        run = runs[index][0] if outcome is not None else None
+        """Start scene `index` (outcome None) or give it its call's outcome; keep its next calls."""
+        run = runs[index][0] if index in runs else _run_calls(
+            *scenes[index], ticks, every, quiet=quiet, allow_full_disk=allow_full_disk)
         try:
-            if run is None:
-                run = _run_calls(*scenes[index], ticks, every, quiet=quiet, allow_full_disk=allow_full_disk)
-                runs[index] = (run, next(run))
-            else:
-                run.send(outcome)
+            runs[index] = (run, run.send(outcome))
         except StopIteration as end:
             results[index] = end.value
-            runs.pop(index)
+            runs.pop(index, None)
         except Exception as err:  # noqa: BLE001 - one scene's failure must not end the batch
             results[index] = err
             runs.pop(index, None)
@@ -198,7 +197,7 @@ def _step_batch(batch: Any, calls: list[Calls], count: int, every: int) -> list[
 def _run_calls(loaded: LoadedScene, out: Path, ticks: int | None = None, every: int | None = None,
                contacts: bool | None = None, progress: bool = False, *, compress: bool = False,
                quiet: bool = False, started: float | None = None, allow_full_disk: bool = False,
-               threads: int = 1) -> Generator[Calls, Stepped, RunResult]:
+               threads: int = 1) -> Generator[Calls, Stepped | None, RunResult]:
     """A run as a generator: it opens the trajectory and yields its `Calls`, takes the `Stepped` outcome
     of each engine call its driver (`run_scene` alone, `run_batch` in a batch) makes, records the frames
     and events, and returns the RunResult once the run has ended and its files are written."""

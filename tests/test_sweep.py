@@ -132,6 +132,9 @@ def test_a_batch_of_variants_gives_each_its_own_run(cli, tiny, tmp_path, compile
                          "angular_velocity/value"):
                 path = f"particles/bodies/{name}"
                 assert a[path][()].tobytes() == b[path][()].tobytes()
+    empty = cli("sweep", tiny, "-p", "world.precision=3,5", "--ticks", "0", "-w", "1",
+                "--out", tmp_path / "none", "--json")
+    assert [(row["status"], row["ticks"]) for row in json.loads(empty.stdout)] == [("complete", 0)] * 2
 
 
 def test_changed_scene_is_not_resumed(cli, tiny, tmp_path, compiled_engine):
