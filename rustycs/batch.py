@@ -11,7 +11,6 @@ same for any thread count and any batch it is in.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -45,7 +44,11 @@ class WorldBatch:
         self._replaced = np.zeros(count, np.bool_)
         self._steppers = None  # numba typed List of the worlds' steppers
         self._listed: list = []  # the steppers in it
-        self._pool = ThreadPoolExecutor(self.threads - 1) if self.threads > 1 else None
+        self._pool = None
+        if self.threads > 1:  # imported here: `import rustycs` loads only numpy and numba
+            from concurrent.futures import ThreadPoolExecutor
+
+            self._pool = ThreadPoolExecutor(self.threads - 1)
         bounds = np.linspace(0, count, self.threads + 1).round().astype(np.int64)
         self._shares = [(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:], strict=True) if b > a]
 

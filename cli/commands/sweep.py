@@ -79,6 +79,9 @@ def command(
     -p 'forces.gravity.acceleration=[0,-9.81],[0,-1.62]' --ticks 600
 
     Example: rustycs sweep scenes/projectile.yaml -p 'bodies.ball.velocity.0=uniform(4,8)' --samples 20
+
+    Example: rustycs sweep scenes/material_bounce.yaml -p 'world.precision=range(1,33)' --batch 1
+    (one variant at a time instead of batches of worlds)
     """
     from ..summary import to_json
     from ..sweep import default_workers, plan_sweep, run_sweep
