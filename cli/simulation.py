@@ -93,10 +93,11 @@ def run_scene(loaded: LoadedScene, out: Path, ticks: int | None = None, every: i
 
 def run_batch(scenes: Sequence[tuple[LoadedScene, Path]], ticks: int | None = None, every: int | None = None,
               *, quiet: bool = False, allow_full_disk: bool = False) -> list[RunResult | Exception]:
-    """Run scenes that have the same number of bodies, ticks and recording interval as one batch of
-    worlds (`rustycs.WorldBatch`): one compiled call steps them all, each exactly as `run_scene` would
-    (the same trajectory, bitwise), and each writes its own trajectory and summary. Returns each scene's
-    result, or the exception that ended it (a UserError, say), without stopping the others.
+    """Run scenes that have the same ticks and recording (interval and contacts: the caller groups them,
+    as `sweep.units` does) as one batch of worlds (`rustycs.WorldBatch`): one compiled call steps them
+    all, each exactly as `run_scene` would (the same trajectory, bitwise), and each writes its own
+    trajectory and summary. Returns each scene's result, or the exception that ended it (a UserError,
+    say), without stopping the others.
 
     The batch is a sweep's unit of work: the calls of small worlds are not bound by Python's cost per
     call. Its step time is shared equally by the worlds' summaries.
