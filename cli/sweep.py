@@ -403,7 +403,7 @@ def _outcomes(future: Future[list[VariantOutcome]], unit: list[VariantTask]) -> 
     except CancelledError:
         return []
     except Exception as err:  # e.g. a worker process killed by the OS
-        return [VariantOutcome(task.index, FAILED, error=f"{type(err).__name__}: {err}") for task in unit]
+        return [_outcome(task.index, err) for task in unit]
 
 
 def _dask_client(address: str) -> Any:
