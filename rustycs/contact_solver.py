@@ -41,9 +41,9 @@ from rustycs.narrow_phase import (
 )
 
 # columns of a solver body row: velocities, inverse masses, displacement and rotation (cos, sin) since the
-# narrow phase
-VX, VY, W, INV_MASS, INV_INERTIA, DX, DY, COS, SIN = 0, 1, 2, 3, 4, 5, 6, 7, 8
-BODY_COLUMNS = 9
+# narrow phase, and the warm velocity (see `warm_start_again`)
+VX, VY, W, INV_MASS, INV_INERTIA, DX, DY, COS, SIN, WARM_VX, WARM_VY, WARM_W = range(12)
+BODY_COLUMNS = 12
 # The lane buffer: chunks of `LANES` contacts, each field of a chunk `LANES` values wide (field f of
 # lane j at the chunk's start + f * LANES + j), so that a loop over a chunk's lanes reads and writes
 # consecutive values. Offsets are unsigned: numba then indexes without wrap-around checks, which keep
@@ -307,6 +307,42 @@ def warm_start(batches, n_chunks, lanes, body):
         else:
             _warm_start_lanes(c, lanes, 1)
         _scatter(batches, c, lanes, body)
+
+
+@inlined_early
+def keep_free_velocities(body):
+    """Before the first warm start of a tick: each body's velocity is its free velocity, what it has
+    without the contacts' accumulated impulses (the warm velocity columns hold it from here on)."""
+    for i in range(body.shape[0]):
+        body[i, WARM_VX] = body[i, VX]
+        body[i, WARM_VY] = body[i, VY]
+        body[i, WARM_W] = body[i, W]
+
+
+@inlined_early
+def exchange_warm_velocities(body):
+    """Turn the warm velocity columns from the free velocity into the velocity the contacts' accumulated
+    impulses give (velocity less free velocity), or back. The contact passes change a body's velocity and
+    its accumulated impulses alike, so its free velocity holds through them; anything else that moves a
+    body (gravity, joints) moves its free velocity, and runs while the columns hold the impulses'."""
+    for i in range(body.shape[0]):
+        body[i, WARM_VX] = body[i, VX] - body[i, WARM_VX]
+        body[i, WARM_VY] = body[i, VY] - body[i, WARM_VY]
+        body[i, WARM_W] = body[i, W] - body[i, WARM_W]
+
+
+@inlined_early
+def warm_start_again(body):
+    """The warm start of a substep after the first: add to each body the velocity its contacts'
+    accumulated impulses give (the columns hold it: `exchange_warm_velocities`), and keep the velocity
+    before as the free velocity. The same as applying every contact's impulses again (`warm_start`), to
+    rounding, in one pass over the bodies instead of the contacts: S2's substep 21.7 -> 18 us."""
+    for i in range(body.shape[0]):
+        vx, vy, w = body[i, VX], body[i, VY], body[i, W]
+        body[i, VX] = vx + body[i, WARM_VX]
+        body[i, VY] = vy + body[i, WARM_VY]
+        body[i, W] = w + body[i, WARM_W]
+        body[i, WARM_VX], body[i, WARM_VY], body[i, WARM_W] = vx, vy, w
 
 
 @inlined_early

@@ -31,6 +31,8 @@ from rustycs.contact_solver import (
     BODY_COLUMNS,
     LANE_FIELDS,
     LANES,
+    exchange_warm_velocities,
+    keep_free_velocities,
     load_bodies,
     prepare,
     softness,
@@ -38,6 +40,7 @@ from rustycs.contact_solver import (
     store_bodies,
     store_impulses,
     warm_start,
+    warm_start_again,
 )
 from rustycs.continuous import SCRATCH_COLUMNS, hold_back_passes
 from rustycs.events import JOINT_BREAK, Events, grown_events, new_events, record_event
@@ -168,17 +171,27 @@ def substeps(batches, n_chunks, lanes, body, bodies, joints, joint_work, joint_s
     positions, relax (the joints before the contacts in each pass). One compiled call with every pass
     inlined: a call per pass cost a quarter of the tick of a five-body scene."""
     jointed = joints.kind.shape[0] > 0  # a call with the records costs a tenth of a five-body tick
-    for _ in range(count):
+    for substep in range(count):
+        if substep > 0:
+            exchange_warm_velocities(body)
         integrate_velocities(body, bodies, forces, h)
         if jointed:
             joints_pass(WARM, bodies, body, joints, joint_work, joint_soft, h)
-        warm_start(batches, n_chunks, lanes, body)
+        if substep == 0:
+            keep_free_velocities(body)
+            warm_start(batches, n_chunks, lanes, body)
+        else:
+            warm_start_again(body)
         if jointed:
+            exchange_warm_velocities(body)
             joints_pass(SOLVE, bodies, body, joints, joint_work, joint_soft, h)
+            exchange_warm_velocities(body)
         solve(batches, n_chunks, lanes, body, 1.0 / h, True)
         integrate_positions(body, bodies, h)
         if jointed:
+            exchange_warm_velocities(body)
             joints_pass(RELAX, bodies, body, joints, joint_work, joint_soft, h)
+            exchange_warm_velocities(body)
         solve(batches, n_chunks, lanes, body, 1.0 / h, False)
 
 

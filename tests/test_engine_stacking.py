@@ -107,7 +107,7 @@ def test_thousand_circles_poured_into_a_container_settle():
     world.add_body(Box(1.0, 60.0), position=(10.5, 30.0), body_type="static", material=material)
     for x, y in jittered_grid(random.Random(1234), 1000, -9.4, 9.4, 1.0, 0.62, 0.05):
         world.add_body(Circle(r), position=(x, y), material=material)
-    world.step(480)
+    world.step(600)  # at 8 s (480 ticks) two balls of the bottom row may still roll at 1-4 cm/s
     centres = world.centers[3:]
     assert world.escaped_count == 0 and np.all(world.active)
     # at rest, but for a ball rolling on the floor without slipping: with no rolling resistance (none in
@@ -122,7 +122,9 @@ def test_thousand_circles_poured_into_a_container_settle():
     np.fill_diagonal(gaps, np.inf)
     overlaps = [2 * r - gaps.min(), r - centres[:, 1].min(), centres[:, 0].max() + r - 10.0,
                 -10.0 - (centres[:, 0].min() - r)]
-    assert max(overlaps) < 0.02
+    # a tenth of the radius: the deepest of the jammed pile, over the grid's seeds 1230-1237, is 0.011-0.021
+    # m (with the warm start per contact or per body alike: the pour is chaotic, the seed picks the pile)
+    assert max(overlaps) < 0.025
     # all inside the container, none left on or beyond a wall
     assert np.all(np.abs(centres[:, 0]) < 10.0) and np.all(centres[:, 1] > 0.0)
     assert centres[:, 1].max() < 16.0
