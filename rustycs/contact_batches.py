@@ -38,6 +38,7 @@ class Batches(NamedTuple):
     last_b: np.ndarray
     last_count: np.ndarray
     last: np.ndarray  # int64 (2,): their number (-1: none yet) and chunk count
+    fresh: np.ndarray  # bool (1,): the slots were placed anew since the solver's lanes were last filled
 
 
 @njit(cache=True)
@@ -49,7 +50,7 @@ def new_batches(n_bodies, manifolds):
                    np.zeros(manifolds, np.int64), np.zeros(manifolds, np.int64), np.zeros(slots, np.int64),
                    np.zeros(slots, np.int64),
                    np.zeros(slots, np.int64), np.zeros(manifolds, np.int64), np.zeros(manifolds, np.int64),
-                   np.zeros(manifolds, np.int64), last)
+                   np.zeros(manifolds, np.int64), last, np.ones(1, np.bool_))
 
 
 @inlined
@@ -66,7 +67,7 @@ def schedule(manifolds, n_man, body, batches):
     then the slots are as they were."""
     m_a, m_b, m_count = manifolds.body_a, manifolds.body_b, manifolds.count
     (first_chunk, next_open, fill, chunk_points, slot_manifold, slot_a, slot_b, last_a, last_b, last_count,
-     last) = batches
+     last, fresh) = batches
     if n_man == last[0]:
         same = True
         for m in range(n_man):
@@ -108,4 +109,5 @@ def schedule(manifolds, n_man, body, batches):
         last_count[m] = m_count[m]
     last[0] = n_man
     last[1] = n_chunks
+    fresh[0] = True
     return n_chunks

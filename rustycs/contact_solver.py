@@ -47,15 +47,14 @@ BODY_COLUMNS = 12
 # The lane buffer: chunks of `LANES` contacts, each field of a chunk `LANES` values wide (field f of
 # lane j at the chunk's start + f * LANES + j), so that a loop over a chunk's lanes reads and writes
 # consecutive values. Offsets are unsigned: numba then indexes without wrap-around checks, which keep
-# LLVM from vectorising. A contact's fields: inverse masses, normal, friction, restitution, softness,
-# then what each pass gathers from the bodies (velocities, the approach of the centres along the
-# normal and the rotations since the narrow phase), and the inverse determinant of its two points'
-# effective mass matrix (0 for one point, or points that act as one: see `_two_points`).
+# LLVM from vectorising. A contact's fields: inverse masses, normal, friction, restitution, then what
+# each pass gathers from the bodies (velocities, the approach of the centres along the normal and the
+# rotations since the narrow phase), and the inverse determinant of its two points' effective mass
+# matrix (0 for one point, or points that act as one: see `_two_points`).
 LANES = 8
-(L_MA, L_IA, L_MB, L_IB, L_NX, L_NY, L_MU, L_E, L_RATE, L_MASS_SCALE, L_IMPULSE_SCALE, L_VAX, L_VAY, L_WA,
- L_VBX, L_VBY, L_WB, L_DN, L_CA, L_SA, L_CB, L_SB, L_INV_DET) = (
-    np.uint64(f * LANES) for f in range(23))
-CONTACT_FIELDS = 23
+(L_MA, L_IA, L_MB, L_IB, L_NX, L_NY, L_MU, L_E, L_VAX, L_VAY, L_WA, L_VBX, L_VBY, L_WB, L_DN, L_CA, L_SA,
+ L_CB, L_SB, L_INV_DET) = (np.uint64(f * LANES) for f in range(20))
+CONTACT_FIELDS = 20
 # a point's fields, from its first: the anchors' cross products with the normal and the tangent and
 # dot products with the normal, the separation less the anchors' projection, effective masses,
 # accumulated and largest normal impulses, the normal speed it should leave at (`bounce_targets`)
@@ -135,12 +134,14 @@ def store_bodies(body, bodies):
 
 
 @tick_kernel
-def prepare(batches, n_chunks, manifolds, points, radius, body, soft, stiff, lanes):
-    """Fill the lanes of the scheduled contacts: inverse masses, normal, friction, restitution, softness,
-    and per point the anchors' products with the normal and the tangent, the effective masses and the
+def prepare(batches, n_chunks, manifolds, points, radius, body, lanes):
+    """Fill the lanes of the scheduled contacts: inverse masses, normal, friction, restitution, and per
+    point the anchors' products with the normal and the tangent, the effective masses and the
     warm-start impulses. An empty lane, or a manifold's missing second point, is all zeros: it solves to
-    no impulse. Contacts against an immovable body get the stiffer softness: only one side gives way.
-    Returns the number of contacts that may bounce (restitution above 0).
+    no impulse, and so stays zero through the passes. So they are zeroed only when the slots were placed
+    anew (`Batches.fresh`): a resting pyramid's ticks keep their slots, and zeroing S2's 354 empty lanes
+    every tick was a third of its lane stores. Returns the number of contacts that may bounce
+    (restitution above 0).
 
     The separation is followed through the substeps by turning each anchor with its body, less the
     shape's radius (`radius`, per shape): the surface of a rounded shape meets the other where its core
@@ -148,20 +149,20 @@ def prepare(batches, n_chunks, manifolds, points, radius, body, soft, stiff, lan
     wall at 167 m/s, spun up to 800 rad/s by friction, turned its anchor away from the wall and went
     through it."""
     # np.int64(0), not the literal 0: one compiled `prepare_chunks` for this and the parts
-    return prepare_chunks(np.int64(0), n_chunks, batches, manifolds, points, radius, body, soft, stiff, lanes)
+    return prepare_chunks(np.int64(0), n_chunks, batches, manifolds, points, radius, body, lanes)
 
 
 @inlined
-def prepare_chunks(start, stop, batches, manifolds, points, radius, body, soft, stiff, lanes):
+def prepare_chunks(start, stop, batches, manifolds, points, radius, body, lanes):
     """`prepare` for chunks start .. stop - 1 (each chunk's lanes depend on its own contacts alone)."""
-    fill, slot_manifold = batches.fill, batches.slot_manifold
+    fill, slot_manifold, fresh = batches.fill, batches.slot_manifold, batches.fresh[0]
     m_a, m_b, manifold = manifolds.body_a, manifolds.body_b, manifolds.data
     shape_a, shape_b = manifolds.shape_a, manifolds.shape_b
     m_first, m_count = manifolds.first, manifolds.count
     point = points.data
     bouncy = 0
     for c in range(start, stop):
-        for j in range(fill[c], LANES):
+        for j in range(fill[c], LANES if fresh else 0):
             _zero(lanes, lane_index(c, j), LANE_FIELDS)
         for j in range(fill[c]):
             o = lane_index(c, j)
@@ -181,10 +182,6 @@ def prepare_chunks(start, stop, batches, manifolds, points, radius, body, soft, 
             lanes[o + L_MU] = manifold[m, FRICTION]
             lanes[o + L_E] = manifold[m, RESTITUTION]
             bouncy += manifold[m, RESTITUTION] != 0.0
-            rate, mass_scale, impulse_scale = stiff if ma == 0.0 or mb == 0.0 else soft
-            lanes[o + L_RATE] = rate
-            lanes[o + L_MASS_SCALE] = mass_scale
-            lanes[o + L_IMPULSE_SCALE] = impulse_scale
             # no motion yet since the narrow phase (see `solve` for when the poses are gathered)
             lanes[o + L_DN] = 0.0
             lanes[o + L_CA], lanes[o + L_SA], lanes[o + L_CB], lanes[o + L_SB] = 1.0, 0.0, 1.0, 0.0
@@ -214,7 +211,8 @@ def prepare_chunks(start, stop, batches, manifolds, points, radius, body, soft, 
                 lanes[q + P_MAX_NORMAL_IMPULSE] = 0.0
             lanes[o + L_INV_DET] = 0.0
             if m_count[m] == 1:
-                _zero(lanes, point_index(o, 1), POINT_FIELDS)
+                if fresh:
+                    _zero(lanes, point_index(o, 1), POINT_FIELDS)
             else:
                 q1, q2 = point_index(o, 0), point_index(o, 1)
                 k11, k12, k22 = _point_masses(ma, ia, mb, ib, lanes[q1 + P_RNA], lanes[q1 + P_RNB],
@@ -391,14 +389,15 @@ def _two_points(k11, k12, k22, b1, b2, inv_det, normal_mass1, normal_mass2):
 
 
 @inlined_early
-def _solve_lanes(c, lanes, inv_h, use_bias, points):
+def _solve_lanes(c, lanes, inv_h, use_bias, soft, stiff, points):
     for j in range(LANES):
         o = lane_index(c, j)
         ma, ia, mb, ib = lanes[o + L_MA], lanes[o + L_IA], lanes[o + L_MB], lanes[o + L_IB]
         vax, vay, wa = lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA]
         vbx, vby, wb = lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB]
         nx, ny = lanes[o + L_NX], lanes[o + L_NY]
-        rate, mscale, iscale = lanes[o + L_RATE], lanes[o + L_MASS_SCALE], lanes[o + L_IMPULSE_SCALE]
+        # against an immovable body the stiffer softness: only one side gives way
+        rate, mscale, iscale = stiff if ma == 0.0 or mb == 0.0 else soft
         dn = lanes[o + L_DN]
         ca, sa, cb, sb = lanes[o + L_CA], lanes[o + L_SA], lanes[o + L_CB], lanes[o + L_SB]
         if points == 1:
@@ -474,9 +473,10 @@ def _solve_lanes(c, lanes, inv_h, use_bias, points):
 
 
 @inlined_early
-def solve(batches, n_chunks, lanes, body, inv_h, use_bias):
+def solve(batches, n_chunks, lanes, body, inv_h, use_bias, soft, stiff):
     """One pass over all contacts; with `use_bias` the soft position bias pushes overlap apart, with
-    each contact's softness (bias rate, mass and impulse scales) for substeps of 1 / inv_h seconds.
+    the contacts' softness (bias rate, mass and impulse scales, `softness`) for substeps of 1 / inv_h
+    seconds, `stiff` against an immovable body.
 
     Friction is solved in the pass without bias only, after the positions moved, as Box2D v3 now does;
     that pass takes the two points of a manifold together (the 2 x 2 problem of their normal impulses,
@@ -497,9 +497,9 @@ def solve(batches, n_chunks, lanes, body, inv_h, use_bias):
     for c in range(n_chunks):
         _gather(batches, c, body, lanes, not use_bias)
         if chunk_points[c] == 2:
-            _solve_lanes(c, lanes, inv_h, use_bias, 2)
+            _solve_lanes(c, lanes, inv_h, use_bias, soft, stiff, 2)
         else:
-            _solve_lanes(c, lanes, inv_h, use_bias, 1)
+            _solve_lanes(c, lanes, inv_h, use_bias, soft, stiff, 1)
         _scatter(batches, c, lanes, body)
 
 

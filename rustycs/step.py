@@ -166,10 +166,12 @@ def grown(ws, n_bodies, cells, pairs, points, chunks, events):
 
 
 @tick_kernel
-def substeps(batches, n_chunks, lanes, body, bodies, joints, joint_work, joint_soft, forces, h, count):
+def substeps(batches, n_chunks, lanes, body, bodies, joints, joint_work, joint_soft, forces, h, count, soft,
+             stiff):
     """The solver's substeps: integrate velocities, warm start, solve with the soft bias, integrate
-    positions, relax (the joints before the contacts in each pass). One compiled call with every pass
-    inlined: a call per pass cost a quarter of the tick of a five-body scene."""
+    positions, relax (the joints before the contacts in each pass), the contacts with softness `soft`,
+    `stiff` against an immovable body. One compiled call with every pass inlined: a call per pass cost a
+    quarter of the tick of a five-body scene."""
     jointed = joints.kind.shape[0] > 0  # a call with the records costs a tenth of a five-body tick
     for substep in range(count):
         if substep > 0:
@@ -186,13 +188,13 @@ def substeps(batches, n_chunks, lanes, body, bodies, joints, joint_work, joint_s
             exchange_warm_velocities(body)
             joints_pass(SOLVE, bodies, body, joints, joint_work, joint_soft, h)
             exchange_warm_velocities(body)
-        solve(batches, n_chunks, lanes, body, 1.0 / h, True)
+        solve(batches, n_chunks, lanes, body, 1.0 / h, True, soft, stiff)
         integrate_positions(body, bodies, h)
         if jointed:
             exchange_warm_velocities(body)
             joints_pass(RELAX, bodies, body, joints, joint_work, joint_soft, h)
             exchange_warm_velocities(body)
-        solve(batches, n_chunks, lanes, body, 1.0 / h, False)
+        solve(batches, n_chunks, lanes, body, 1.0 / h, False, soft, stiff)
 
 
 # entries of a block's status (`step_world`): ticks done, frames recorded, bodies that left the bounds,
@@ -308,14 +310,15 @@ def step_world(stepper, n_ticks, every):
             status[NEED_CHUNKS] = n_chunks
             continue
         if threaded and n_chunks >= 2 * CHUNK_PART:
-            bouncy = prepare_in_parts(stepper, n_chunks, *soft, *stiff)
+            bouncy = prepare_in_parts(stepper, n_chunks)
         else:
             bouncy = prepare(batches, n_chunks, contacts.manifolds, contacts.points, shapes.radius, body,
-                             soft, stiff, lanes)
+                             lanes)
+        batches.fresh[0] = False  # the lanes hold the slots' zeros
         if bouncy > 0:
             keep_velocities(body, bounce_velocity)
         substeps(batches, n_chunks, lanes, body, bodies, joints, joint_work, joint_soft, forces, h,
-                 settings.substeps)
+                 settings.substeps, soft, stiff)
         store_impulses(batches, n_chunks, contacts.manifolds, lanes, contacts.points)
         if bouncy > 0:
             resolve_impacts(batches, n_chunks, lanes, body, bounce_velocity, settings.restitution_threshold)

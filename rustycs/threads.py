@@ -159,15 +159,12 @@ def _join(contacts, found, n_parts):
 
 
 @parallel_kernel
-def prepare_in_parts(stepper, n_chunks, soft_rate, soft_mass, soft_impulse, stiff_rate, stiff_mass,
-                     stiff_impulse):
-    """`contact_solver.prepare` of the stepper's world, in parts of CHUNK_PART chunks, with the contacts'
-    softness (rate, mass and impulse scales) and the stiffer one against immovable bodies; returns the
+def prepare_in_parts(stepper, n_chunks):
+    """`contact_solver.prepare` of the stepper's world, in parts of CHUNK_PART chunks; returns the
     contacts that may bounce."""
     n_parts = (n_chunks + CHUNK_PART - 1) // CHUNK_PART
     for p in prange(n_parts):
-        _prepare_part(stepper, p, n_chunks, soft_rate, soft_mass, soft_impulse, stiff_rate, stiff_mass,
-                      stiff_impulse)
+        _prepare_part(stepper, p, n_chunks)
     bouncy = borrowed(stepper).workspace.threads.bouncy
     total = 0
     for p in range(n_parts):
@@ -176,11 +173,9 @@ def prepare_in_parts(stepper, n_chunks, soft_rate, soft_mass, soft_impulse, stif
 
 
 @inlined
-def _prepare_part(stepper, p, n_chunks, soft_rate, soft_mass, soft_impulse, stiff_rate, stiff_mass,
-                  stiff_impulse):
+def _prepare_part(stepper, p, n_chunks):
     world = borrowed(stepper)
     ws = world.workspace
     ws.threads.bouncy[p] = prepare_chunks(p * CHUNK_PART, min(n_chunks, (p + 1) * CHUNK_PART), ws.batches,
                                           ws.contacts.manifolds, ws.contacts.points, world.shapes.radius,
-                                          ws.body, (soft_rate, soft_mass, soft_impulse),
-                                          (stiff_rate, stiff_mass, stiff_impulse), ws.lanes)
+                                          ws.body, ws.lanes)
