@@ -59,7 +59,7 @@ def _sweep(shapes, sa, sb, motion_a, motion_b, dt, margin, sweep):
     turning = abs(motion_a.w) * motion_a.extent + abs(motion_b.w) * motion_b.extent
     if dt * (math.sqrt(vx * vx + vy * vy) + turning) <= margin:
         return 1.0
-    t = time_of_impact(shapes, sa, sb, motion_a, motion_b, dt, LINEAR_SLOP, sweep)
+    t = time_of_impact(shapes, sa, sb, motion_a, motion_b, dt, LINEAR_SLOP, None, sweep)
     return t / dt if t > 0.0 else 1.0
 
 

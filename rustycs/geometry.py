@@ -49,25 +49,40 @@ def place_piece(shapes, j, px, py, c, s, geometry, row):
     """Place shape row j of a body whose centre of mass is at (px, py), turned by the angle of cosine c
     and sine s, into row `row` of `geometry` (vertices, normals, centroid, chain ghosts); returns the
     box of its core (xmin, ymin, xmax, ymax), which holds the centroid (a circle's core is its centre)."""
-    local_verts, local_normals, local_centroid = shapes.vertices, shapes.normals, shapes.centroid
-    verts, normals, centroid, ghosts = geometry.vertices, geometry.normals, geometry.centroid, geometry.ghosts
+    box = place_core(shapes, j, px, py, c, s, geometry, row)
+    place_faces(shapes, j, px, py, c, s, geometry, row)
+    return box
+
+
+@inlined
+def place_core(shapes, j, px, py, c, s, geometry, row):
+    """`place_piece`'s centroid and vertices alone, and the box of the core: what a distance needs."""
+    local_verts, local_centroid = shapes.vertices, shapes.centroid
+    verts, centroid = geometry.vertices, geometry.centroid
     centroid[row, 0] = px + c * local_centroid[j, 0] - s * local_centroid[j, 1]
     centroid[row, 1] = py + s * local_centroid[j, 0] + c * local_centroid[j, 1]
     lo_x = hi_x = centroid[row, 0]
     lo_y = hi_y = centroid[row, 1]
     for k in range(shapes.count[j]):
         _turn(px, py, c, s, local_verts[j], verts[row], k)
-        nx, ny = local_normals[j, k, 0], local_normals[j, k, 1]
-        normals[row, k, 0] = c * nx - s * ny
-        normals[row, k, 1] = s * nx + c * ny
         lo_x = min(lo_x, verts[row, k, 0])
         lo_y = min(lo_y, verts[row, k, 1])
         hi_x = max(hi_x, verts[row, k, 0])
         hi_y = max(hi_y, verts[row, k, 1])
-    if shapes.kind[j] == CHAIN_SEGMENT:
-        _turn(px, py, c, s, shapes.ghosts[j], ghosts[row], 0)
-        _turn(px, py, c, s, shapes.ghosts[j], ghosts[row], 1)
     return lo_x, lo_y, hi_x, hi_y
+
+
+@inlined
+def place_faces(shapes, j, px, py, c, s, geometry, row):
+    """`place_piece`'s edge normals and chain ghosts alone: what a manifold needs beside the core."""
+    local_normals, normals = shapes.normals, geometry.normals
+    for k in range(shapes.count[j]):
+        nx, ny = local_normals[j, k, 0], local_normals[j, k, 1]
+        normals[row, k, 0] = c * nx - s * ny
+        normals[row, k, 1] = s * nx + c * ny
+    if shapes.kind[j] == CHAIN_SEGMENT:
+        _turn(px, py, c, s, shapes.ghosts[j], geometry.ghosts[row], 0)
+        _turn(px, py, c, s, shapes.ghosts[j], geometry.ghosts[row], 1)
 
 
 @tick_kernel

@@ -172,14 +172,14 @@ def _swept_back(m, t, px, py):
 
 
 @tick_kernel
-def _swept_collision(bodies, shapes, sa, sb, dt, within, count, sweep, out):
+def _swept_collision(bodies, shapes, geometry, sa, sb, dt, within, count, sweep, out):
     """Sweep a pair not yet touching, with `count` points now, through the tick: (time of impact, points
     in `out`). Passing by while closing, no points; moving apart, the points they have now (a blow from
     elsewhere may yet drive them together). A call of its own, not inlined: a second copy of the
     collision routines and the sweep inside the narrow phase's loop slowed every pair, swept or not."""
     a, b = shapes.body[sa], shapes.body[sb]
     impact = time_of_impact(shapes, sa, sb, motion_now(bodies, a), motion_now(bodies, b), dt, LINEAR_SLOP,
-                            sweep)
+                            geometry, sweep)
     if impact < 0.0:
         v = bodies.v
         closing = (v[b, 0] - v[a, 0]) * out.normal[0] + (v[b, 1] - v[a, 1]) * out.normal[1] < 0.0
@@ -235,7 +235,8 @@ def collide_pairs(start, stop, m_start, p_start, pair_keys, bodies, shapes, geom
         b = body[sb]
         if sleeping and (asleep[a] or asleep[b]):
             continue
-        count = collide_pair(shapes, geometry, sa, sb, reach[a] + reach[b] - margin, out)
+        within = reach[a] + reach[b] - margin
+        count = collide_pair(shapes, geometry, sa, sb, within, out)
         if count == 0:
             continue
         impact = 0.0
@@ -249,8 +250,8 @@ def collide_pairs(start, stop, m_start, p_start, pair_keys, bodies, shapes, geom
         if gap > LINEAR_SLOP and dt * (abs(vx) + abs(vy) + turning) > margin:
             travel = dt * (math.sqrt(vx * vx + vy * vy) + abs(w[a]) * extent[a] + abs(w[b]) * extent[b])
             if travel + LINEAR_SLOP > gap and travel > margin:  # the slop: a tick of gravity's g dt^2
-                impact, count = _swept_collision(bodies, shapes, sa, sb, dt, reach[a] + reach[b] - margin,
-                                                 count, sweep, out)
+                impact, count = _swept_collision(bodies, shapes, geometry, sa, sb, dt, within, count, sweep,
+                                                 out)
                 if count == 0:
                     continue
             elif travel > margin:

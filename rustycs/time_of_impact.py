@@ -10,11 +10,10 @@ an impact at time t, the contact of the features that meet there.
 
 The sweep is conservative advancement (Mirtich): at time t place both pieces as their bodies move with
 constant velocities (turning about their centres of mass), take the distance d of their cores less
-their radii, and advance by d over the fastest that d can shrink. For bodies that do not turn, d(t) is
-convex and shrinks at most at the approach speed of the closest points along their direction, so the
-steps never overshoot the impact and stop where d stops shrinking. Turning bodies take the bound of any
-point: the relative speed plus |w| times each body's extent (the approach of the closest points alone
-let two tumbling capsules of the capsule pile step past their impact into a 6.5 cm overlap).
+their radii, and advance by d over the fastest that d can shrink: the approach of the bodies along the
+direction between the closest points plus each body's |w| times its extent (the approach of the closest
+points alone let two tumbling capsules of the capsule pile step past their impact into a 6.5 cm
+overlap). The steps never overshoot the impact, and stop where d stops shrinking.
 """
 
 from __future__ import annotations
@@ -26,7 +25,7 @@ import numpy as np
 from numba import njit
 
 from rustycs.compiling import inlined
-from rustycs.geometry import Geometry, new_geometry, place_piece
+from rustycs.geometry import Geometry, new_geometry, place_core, place_faces
 from rustycs.pieces import MAX_VERTICES
 
 ADVANCE_STEPS = 32  # conservative advancement steps at most; a pair still undecided counts as an impact
@@ -71,7 +70,8 @@ def _core_vertex(geometry, row, count, k):
 @inlined
 def _nearest(geometry, row, count, other, other_count, best, ax, ay, bx, by, flip):
     """The closest points of the vertices of core `row` to the edges (or the one vertex) of core
-    `other`, improving on squared distance `best` with points a (on row 0) and b (on row 1)."""
+    `other`, improving on squared distance `best` with points a (on the first core) and b (on the
+    second)."""
     vertices = max(count, 1)
     edges = other_count if other_count > 2 else other_count - 1
     for k in range(vertices):
@@ -95,13 +95,12 @@ def _nearest(geometry, row, count, other, other_count, best, ax, ay, bx, by, fli
 
 
 @inlined
-def core_distance(sweep):
-    """Distance between the placed cores of rows 0 and 1 (apart: every pair the sweep places is), and
-    their closest points. Convex cores that do not overlap are closest between a vertex of one and an
-    edge of the other."""
-    geometry, count = sweep.geometry, sweep.count
-    best, ax, ay, bx, by = _nearest(geometry, 0, count[0], 1, count[1], math.inf, 0.0, 0.0, 0.0, 0.0, False)
-    best, ax, ay, bx, by = _nearest(geometry, 1, count[1], 0, count[0], best, ax, ay, bx, by, True)
+def core_distance(geometry, a, count_a, b, count_b):
+    """Distance between the placed cores in rows a and b of `geometry` (apart: every pair the sweep
+    places is), and their closest points. Convex cores that do not overlap are closest between a vertex
+    of one and an edge of the other."""
+    best, ax, ay, bx, by = _nearest(geometry, a, count_a, b, count_b, math.inf, 0.0, 0.0, 0.0, 0.0, False)
+    best, ax, ay, bx, by = _nearest(geometry, b, count_b, a, count_a, best, ax, ay, bx, by, True)
     return math.sqrt(best), ax, ay, bx, by
 
 
@@ -126,44 +125,60 @@ def motion_now(bodies, i):
 
 
 @inlined
-def place_pair(shapes, sa, sb, motion_a, motion_b, t, sweep):
-    """Place shapes sa and sb into the sweep's rows 0 and 1 where their bodies' motions take them after t
-    seconds."""
+def place_pair(shapes, sa, sb, motion_a, motion_b, t, faces, sweep):
+    """Place the cores of shapes sa and sb into the sweep's rows 0 and 1 where their bodies' motions take
+    them after t seconds, and with `faces` their normals and chain ghosts too (what a manifold needs)."""
     for row in range(2):
         j, m = (sa, motion_a) if row == 0 else (sb, motion_b)
         turn = m.angle + m.w * t
-        place_piece(shapes, j, m.x + m.vx * t, m.y + m.vy * t, math.cos(turn), math.sin(turn), sweep.geometry,
-                    row)
+        px, py, c, s = m.x + m.vx * t, m.y + m.vy * t, math.cos(turn), math.sin(turn)
+        place_core(shapes, j, px, py, c, s, sweep.geometry, row)
+        if faces:
+            place_faces(shapes, j, px, py, c, s, sweep.geometry, row)
+
+
+@inlined
+def time_of_impact(shapes, sa, sb, motion_a, motion_b, duration, reach, start, sweep):
+    """The first time in [0, duration] at which shapes sa and sb come within `reach` of touching, their
+    bodies moving as `motion_a` and `motion_b` say; -1 when they do not. `start` is a geometry that holds
+    both where they are at time 0 in their own rows (the tick's, in the narrow phase), or None: then the
+    sweep places them. After an impact at t > 0 the sweep's rows hold them placed at t, faces and all.
+
+    Each step bounds how fast the gap can shrink along the direction u between the closest points: for
+    a fixed u, the separation of the two cores along u is at most their distance, is equal to it now, and
+    shrinks no faster than the bodies approach along u plus both bodies' turning (|w| extent: any point
+    of a core turns no faster), so the step to that bound's zero never passes the impact. (|v| plus the
+    turning, the bound of any direction, took 4,821 steps where this takes 2,935 for the 1,465 pairs
+    swept in a tick of the compound pile.)"""
+    for row in range(2):
+        j = sa if row == 0 else sb
         sweep.kind[row] = shapes.kind[j]
         sweep.radius[row] = shapes.radius[j]
         sweep.count[row] = shapes.count[j]
         sweep.open_ends[row] = shapes.open_ends[j]
-
-
-@inlined
-def time_of_impact(shapes, sa, sb, motion_a, motion_b, duration, reach, sweep):
-    """The first time in [0, duration] at which shapes sa and sb come within `reach` of touching, their
-    bodies moving as `motion_a` and `motion_b` say; -1 when they do not. The sweep's rows hold the pieces
-    placed at that time."""
     vx, vy = motion_b.vx - motion_a.vx, motion_b.vy - motion_a.vy
     turning = abs(motion_a.w) * motion_a.extent + abs(motion_b.w) * motion_b.extent
     radii = shapes.radius[sa] + shapes.radius[sb]
+    count_a, count_b = shapes.count[sa], shapes.count[sb]
+    if start is None:
+        place_pair(shapes, sa, sb, motion_a, motion_b, 0.0, False, sweep)
+        distance, ax, ay, bx, by = core_distance(sweep.geometry, 0, count_a, 1, count_b)
+    else:  # placed already, and in the cache: the narrow phase has just collided them
+        distance, ax, ay, bx, by = core_distance(start, sa, count_a, sb, count_b)
     t = 0.0
     for _ in range(ADVANCE_STEPS):
-        place_pair(shapes, sa, sb, motion_a, motion_b, t, sweep)
-        distance, ax, ay, bx, by = core_distance(sweep)
         gap = distance - radii
         if gap <= reach:
+            if t > 0.0:
+                place_pair(shapes, sa, sb, motion_a, motion_b, t, True, sweep)
             return t
-        # the fastest the gap can shrink: without turning, the closest points' approach; turning, the
-        # direction between the closest points turns too, so any point's speed, and both bodies' turning
-        if turning > 0.0:
-            closing = turning + math.sqrt(vx * vx + vy * vy)
-        else:
-            closing = -(vx * (bx - ax) + vy * (by - ay)) / distance
+        closing = turning - (vx * (bx - ax) + vy * (by - ay)) / distance
         if closing <= 0.0:
             return -1.0
         t += (gap - 0.5 * reach) / closing  # to mid-band: the next step lands within reach
         if t > duration:
             return -1.0
+        place_pair(shapes, sa, sb, motion_a, motion_b, t, False, sweep)
+        distance, ax, ay, bx, by = core_distance(sweep.geometry, 0, count_a, 1, count_b)
+    place_pair(shapes, sa, sb, motion_a, motion_b, t, True, sweep)
     return t
