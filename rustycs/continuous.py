@@ -14,6 +14,10 @@ b2SolveContinuous), keeping its velocity: the next tick's contact stops it there
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
 
 from rustycs.body_types import DYNAMIC, STATIC
 from rustycs.broad_phase import SHAPE_BITS, SHAPE_MASK
@@ -22,8 +26,33 @@ from rustycs.constants import LINEAR_SLOP
 from rustycs.contact_solver import COS, DX, DY, SIN
 from rustycs.time_of_impact import Motion, time_of_impact
 
-EARLIEST, TRAVEL = 0, 1  # columns of `hold_back_passes`'s scratch
-SCRATCH_COLUMNS = 2
+EARLIEST, TRAVEL = 0, 1  # columns of `HoldBack.bodies`
+BODY_COLUMNS = 2
+
+
+class HoldBack(NamedTuple):
+    """Scratch of `hold_back_passes`."""
+
+    bodies: np.ndarray  # (N, BODY_COLUMNS) per body the earliest fraction of the tick and the travel
+    fixed: np.ndarray  # (S,) int64: the rows of the shapes of active static and kinematic bodies
+
+
+@njit(cache=True)
+def new_hold_back(n_bodies, n_shapes):
+    return HoldBack(np.ones((n_bodies, BODY_COLUMNS)), np.empty(n_shapes, np.int64))
+
+
+@inlined
+def _fixed_shapes(bodies, shapes, fixed):
+    """Write the rows of the shapes of active static and kinematic bodies, sensors left out, into `fixed`;
+    returns how many."""
+    n = 0
+    for j in range(shapes.body.shape[0]):
+        other = shapes.body[j]
+        if bodies.body_type[other] != DYNAMIC and bodies.active[other] and not shapes.sensor[j]:
+            fixed[n] = j
+            n += 1
+    return n
 
 
 @inlined
@@ -73,12 +102,14 @@ def _travel(body, i, extent):
 
 
 @tick_kernel
-def hold_back_passes(pair_keys, n_pairs, paired, bodies, shapes, geometry, body, dt, margin, sweep, scratch):
+def hold_back_passes(pair_keys, n_pairs, paired, bodies, shapes, geometry, body, dt, margin, sweep, work):
     """Sweep the candidate pairs that got no contact along the tick's paths of their bodies (those that
     moved more than `margin` relative to each other), and move each body held back by one (`_held_back`)
     to the earliest time it touched one. A dynamic body that moved farther than its hitbox reached (a
-    collision sped it up) is swept against every static and kinematic shape its path passes. `scratch`
-    has two columns per body: the earliest fraction of the tick and the travel."""
+    collision sped it up) is swept against every static and kinematic shape its path passes (those are
+    listed once a tick: scanning all 6,281 shapes for each of the 150 such bodies of a tick of the falling
+    compounds took 0.5 ms)."""
+    scratch = work.bodies
     body_type, active, first, count, extent = (bodies.body_type, bodies.active, bodies.first_shape,
                                                bodies.shape_count, bodies.extent)
     moved = False
@@ -103,7 +134,8 @@ def hold_back_passes(pair_keys, n_pairs, paired, bodies, shapes, geometry, body,
             scratch[a, EARLIEST] = min(scratch[a, EARLIEST], f)
         if hold_b:
             scratch[b, EARLIEST] = min(scratch[b, EARLIEST], f)
-    hitbox, reach = geometry.hitbox, geometry.reach
+    hitbox, reach, fixed = geometry.hitbox, geometry.reach, work.fixed
+    n_fixed = -1
     for i in range(scratch.shape[0]):
         travel = scratch[i, TRAVEL]
         if body_type[i] != DYNAMIC or travel <= reach[i]:
@@ -112,12 +144,13 @@ def hold_back_passes(pair_keys, n_pairs, paired, bodies, shapes, geometry, body,
         travel = math.sqrt(body[i, DX] * body[i, DX] + body[i, DY] * body[i, DY]) + abs(turn) * extent[i]
         if travel <= reach[i]:
             continue
+        if n_fixed < 0:
+            n_fixed = _fixed_shapes(bodies, shapes, fixed)
         grow = travel + LINEAR_SLOP
         motion = _tick_motion(bodies, body, i, dt)
-        for j in range(shapes.body.shape[0]):
+        for f in range(n_fixed):
+            j = fixed[f]
             other = shapes.body[j]
-            if body_type[other] == DYNAMIC or shapes.sensor[j] or not active[other]:
-                continue
             for sa in range(first[i], first[i] + count[i]):
                 if shapes.sensor[sa] or not _near(hitbox, sa, j, grow):
                     continue
