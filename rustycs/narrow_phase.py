@@ -194,9 +194,10 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, sleep
     """Manifolds of the first n_pairs candidate pairs (keys (a << SHAPE_BITS) | b), written into
     `contacts` (for at least as many pairs). Returns (manifold count, point count).
 
-    A pair's points are kept within `margin` plus both bodies' travel in one tick (each body's reach is
-    the margin plus its travel), so a pair whose hitboxes (grown by the reach) do not overlap has none:
-    it is passed over (the broad phase's pairs are those of fat hitboxes). A pair not yet touching that
+    A pair's points are kept within `margin` plus the pair's relative travel in one tick, never more than
+    the two bodies' reaches (each the margin plus the body's travel) less the margin, so a pair whose
+    hitboxes (grown by the reach) do not overlap has none: it is passed over (the broad phase's pairs are
+    those of fat hitboxes). A pair not yet touching that
     moves more than `margin` in the tick is swept (`time_of_impact`): passing by, it has no points;
     meeting, it has the points of the features that meet, placed on the bodies where they are now.
     With `sleeping` (a world that sleeps), the pairs of bodies asleep are passed over: their points are
@@ -235,15 +236,19 @@ def collide_pairs(start, stop, m_start, p_start, pair_keys, bodies, shapes, geom
         b = body[sb]
         if sleeping and (asleep[a] or asleep[b]):
             continue
-        within = reach[a] + reach[b] - margin
+        vx, vy = v[b, 0] - v[a, 0], v[b, 1] - v[a, 1]
+        turning = abs(w[a]) * extent[a] + abs(w[b]) * extent[b]
+        # points as far apart as the pair can close in the tick: the margin plus its relative travel
+        # (bounded by |vx| + |vy|, and by the two reaches the hitboxes were grown by). Bodies falling side
+        # by side keep none: the 3,000 falling compounds had 23,800 manifolds a tick, most of them
+        # between neighbours that moved together
+        within = min(reach[a] + reach[b] - margin, margin + dt * (abs(vx) + abs(vy) + turning))
         count = collide_pair(shapes, geometry, sa, sb, within, out)
         if count == 0:
             continue
         impact = 0.0
         held = True  # the solver's points hold the pair through the tick
         gap = min(out.separations[0], out.separations[count - 1])
-        vx, vy = v[b, 0] - v[a, 0], v[b, 1] - v[a, 1]
-        turning = abs(w[a]) * extent[a] + abs(w[b]) * extent[b]
         # a pair that moves less than the margin in the tick (bounded without a square root: |vx| + |vy|
         # is at least the speed) is held by its points, as every resting pair is: 12 us of the 820-box
         # pyramid's narrow phase went to that root
