@@ -57,9 +57,11 @@ LANES = 8
 CONTACT_FIELDS = 20
 # a point's fields, from its first: the anchors' cross products with the normal and the tangent and
 # dot products with the normal, the separation less the anchors' projection, effective masses,
-# accumulated and largest normal impulses, the normal speed it should leave at (`bounce_targets`)
+# accumulated impulses, the normal impulse of the whole tick (each substep's accumulated one, summed by
+# the relax pass: what the bodies' velocities took from the point), the normal speed it should leave at
+# (`bounce_targets`)
 (P_RNA, P_RNB, P_RTA, P_RTB, P_RDA, P_RDB, P_SEPARATION, P_NORMAL_MASS, P_TANGENT_MASS, P_NORMAL_IMPULSE,
- P_TANGENT_IMPULSE, P_MAX_NORMAL_IMPULSE, P_BOUNCE) = (np.uint64(f * LANES) for f in range(13))
+ P_TANGENT_IMPULSE, P_TICK_NORMAL_IMPULSE, P_BOUNCE) = (np.uint64(f * LANES) for f in range(13))
 POINT_FIELDS = 13
 LANE_FIELDS = CONTACT_FIELDS + 2 * POINT_FIELDS
 _CHUNK = np.uint64(LANE_FIELDS * LANES)
@@ -208,7 +210,7 @@ def prepare_chunks(start, stop, batches, manifolds, points, radius, body, lanes)
                 lanes[q + P_SEPARATION] = point[p, SEPARATION] - (rdb - rda)
                 lanes[q + P_NORMAL_IMPULSE] = point[p, NORMAL_IMPULSE]
                 lanes[q + P_TANGENT_IMPULSE] = point[p, TANGENT_IMPULSE]
-                lanes[q + P_MAX_NORMAL_IMPULSE] = 0.0
+                lanes[q + P_TICK_NORMAL_IMPULSE] = 0.0
             lanes[o + L_INV_DET] = 0.0
             if m_count[m] == 1:
                 if fresh:
@@ -410,7 +412,8 @@ def _solve_lanes(c, lanes, inv_h, use_bias, soft, stiff, points):
             total = max(old - (lanes[q + P_NORMAL_MASS] * m_scale * (vn + bias) + i_scale * old), 0.0)
             impulse = total - old
             lanes[q + P_NORMAL_IMPULSE] = total
-            lanes[q + P_MAX_NORMAL_IMPULSE] = max(lanes[q + P_MAX_NORMAL_IMPULSE], impulse)
+            if not use_bias:
+                lanes[q + P_TICK_NORMAL_IMPULSE] += total
             vax -= ma * nx * impulse
             vay -= ma * ny * impulse
             wa -= ia * rna * impulse
@@ -442,8 +445,9 @@ def _solve_lanes(c, lanes, inv_h, use_bias, soft, stiff, points):
             impulse1, impulse2 = total1 - old1, total2 - old2
             lanes[q1 + P_NORMAL_IMPULSE] = total1
             lanes[q2 + P_NORMAL_IMPULSE] = total2
-            lanes[q1 + P_MAX_NORMAL_IMPULSE] = max(lanes[q1 + P_MAX_NORMAL_IMPULSE], impulse1)
-            lanes[q2 + P_MAX_NORMAL_IMPULSE] = max(lanes[q2 + P_MAX_NORMAL_IMPULSE], impulse2)
+            if not use_bias:
+                lanes[q1 + P_TICK_NORMAL_IMPULSE] += total1
+                lanes[q2 + P_TICK_NORMAL_IMPULSE] += total2
             impulse = impulse1 + impulse2
             vax -= ma * nx * impulse
             vay -= ma * ny * impulse

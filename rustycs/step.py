@@ -45,7 +45,7 @@ from rustycs.contact_solver import (
 from rustycs.continuous import HoldBack, hold_back_passes, new_hold_back
 from rustycs.events import JOINT_BREAK, Events, grown_events, new_events, record_event
 from rustycs.geometry import Geometry, new_geometry, update_geometry
-from rustycs.impacts import keep_velocities, resolve_impacts
+from rustycs.impacts import BEFORE_COLUMNS, keep_velocities, resolve_impacts
 from rustycs.joint_solver import (
     RELAX,
     SOLVE,
@@ -110,7 +110,7 @@ class Workspace(NamedTuple):
     batches: Batches
     lanes: np.ndarray  # the solver's lanes of the scheduled contacts
     decay: np.ndarray  # (N, 2) per body the damping factors of a tick, linear and angular
-    bounce_velocity: np.ndarray  # (N, BODY_COLUMNS) the solver rows before the soft step (impacts)
+    bounce_velocity: np.ndarray  # (N, impacts.BEFORE_COLUMNS) the velocities before the soft step
     held_back: HoldBack  # scratch of `hold_back_passes`
     joint_work: JointWork
     events: Events
@@ -130,7 +130,7 @@ def new_workspace(n_bodies, shapes, n_joints, max_vertices, c_key, c_jn, c_jt, s
                      new_contacts(capacity, sleeps, no_sleeping_points()),
                      new_cache(2 * capacity, c_key, c_jn, c_jt), np.empty((n_bodies, BODY_COLUMNS)),
                      new_batches(n_bodies, capacity), np.empty(capacity * LANE_FIELDS),
-                     np.ones((n_bodies, 2)), np.zeros((n_bodies, BODY_COLUMNS)),
+                     np.ones((n_bodies, 2)), np.zeros((n_bodies, BEFORE_COLUMNS)),
                      new_hold_back(n_bodies, n_shapes), new_joint_work(n_bodies, n_joints),
                      new_events(events_bound(0, n_bodies, n_joints, capacity, capacity)),  # tick 1 fits
                      np.zeros(1, np.bool_), new_touching(capacity), new_islands(n_bodies if sleeps else 0),

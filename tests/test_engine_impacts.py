@@ -38,6 +38,23 @@ def test_a_touching_billiards_rack_keeps_its_energy():
     assert world.observables()["kinetic_energy"] / energy >= 0.99
 
 
+@pytest.mark.parametrize("order", [(0, 1, 2), (2, 1, 0), (1, 0, 2), (0, 2, 1)])
+def test_three_balls_meeting_in_one_tick_keep_their_energy_in_any_order(order):
+    # a fast ball meets two nearly touching ones in one tick (from the elastic gas, tick 3503): the soft
+    # step pushes the two apart, the sequence of collisions never does; while that push stood they left
+    # with 2.9-3.6 % more energy in three of these four orders of rows
+    balls = [((-3.165, 3.8098), (7.4721, -2.3974)), ((-2.7173, 3.5647), (-0.0696, -1.4869)),
+             ((-2.7424, 3.9711), (2.6552, -3.5523))]
+    world = World(tick_rate=60.0, precision=4, restitution_threshold=0.0)
+    for k in order:
+        world.add_body(Circle(0.2), position=balls[k][0], velocity=balls[k][1], material=ELASTIC)
+    energy, momentum = world.observables()["kinetic_energy"], world.velocities.sum(axis=0)
+    world.step(1)
+    assert world.observables()["kinetic_energy"] / energy == pytest.approx(1.0, abs=1e-6)
+    assert world.velocities.sum(axis=0) == pytest.approx(momentum, abs=1e-12)
+    assert np.any(world.velocities != [b[1] for b in (balls[k] for k in order)])  # they met
+
+
 def test_an_elastic_gas_keeps_its_energy_for_a_minute():
     world = World(tick_rate=60.0, precision=4, restitution_threshold=0.0)
     for x, y, width, height in ((0, -5.25, 11, 0.5), (0, 5.25, 11, 0.5), (-5.25, 0, 0.5, 11),
@@ -51,7 +68,9 @@ def test_an_elastic_gas_keeps_its_energy_for_a_minute():
                            velocity=(3 * math.cos(heading), 3 * math.sin(heading)), material=ELASTIC)
     energy = world.observables()["kinetic_energy"]
     world.step(3600)
-    assert world.observables()["kinetic_energy"] / energy == pytest.approx(1.0, abs=0.01)
+    # 0.9999998 (seeds 1-4): every impact of the gas, three balls meeting in one tick too, is a sequence
+    # of elastic collisions (it drifted by up to 1.2 % while the soft step's pushes stood in them)
+    assert world.observables()["kinetic_energy"] / energy == pytest.approx(1.0, abs=1e-5)
 
 
 def test_a_disc_hitting_a_slope_leaves_rolling_with_two_thirds_of_its_tangential_speed():
