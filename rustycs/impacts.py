@@ -249,6 +249,27 @@ def impact_friction(batches, n_chunks, lanes, body):
 
 
 @tick_kernel
+def may_bounce(batches, n_chunks, lanes, body, threshold):
+    """Whether a point of the scheduled contacts closes faster than `threshold` as the tick starts (the
+    solver rows `body` before the soft step). The sequence of collisions starts from such a point: with
+    none, `resolve_impacts` changes nothing and is skipped (a resting pile of bodies that can bounce
+    paid for five passes over its contacts every tick)."""
+    slow = -max(threshold, BOUNCE_SPEED_TOLERANCE)
+    fill, slot_a, slot_b = batches.fill, batches.slot_a, batches.slot_b
+    for c in range(n_chunks):
+        for j in range(fill[c]):
+            o = lane_index(c, j)
+            a = slot_a[c * LANES + j]
+            b = slot_b[c * LANES + j]
+            nx, ny = lanes[o + L_NX], lanes[o + L_NY]
+            for k in range(2):  # a missing second point (zeros) gives the centres' speed: at worst no skip
+                q = point_index(o, k)
+                if _speed(body, a, b, nx, ny, lanes[q + P_RNA], lanes[q + P_RNB]) < slow:
+                    return True
+    return False
+
+
+@tick_kernel
 def resolve_impacts(batches, n_chunks, lanes, body, before, threshold):
     """Bounce the contacts the soft step stopped, from the velocity rows `before` it (overwritten):
     targets, then passes of restitution and friction until no speed changes by more than

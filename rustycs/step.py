@@ -45,7 +45,7 @@ from rustycs.contact_solver import (
 from rustycs.continuous import HoldBack, hold_back_passes, new_hold_back
 from rustycs.events import JOINT_BREAK, Events, grown_events, new_events, record_event
 from rustycs.geometry import Geometry, new_geometry, update_geometry
-from rustycs.impacts import BEFORE_COLUMNS, keep_velocities, resolve_impacts
+from rustycs.impacts import BEFORE_COLUMNS, keep_velocities, may_bounce, resolve_impacts
 from rustycs.joint_solver import (
     RELAX,
     SOLVE,
@@ -315,12 +315,13 @@ def step_world(stepper, n_ticks, every):
             bouncy = prepare(batches, n_chunks, contacts.manifolds, contacts.points, shapes.radius, body,
                              lanes)
         batches.fresh[0] = False  # the lanes hold the slots' zeros
-        if bouncy > 0:
+        bounces = bouncy > 0 and may_bounce(batches, n_chunks, lanes, body, settings.restitution_threshold)
+        if bounces:
             keep_velocities(body, bounce_velocity)
         substeps(batches, n_chunks, lanes, body, bodies, joints, joint_work, joint_soft, forces, h,
                  settings.substeps, soft, stiff)
         store_impulses(batches, n_chunks, contacts.manifolds, lanes, contacts.points)
-        if bouncy > 0:
+        if bounces:
             resolve_impacts(batches, n_chunks, lanes, body, bounce_velocity, settings.restitution_threshold)
         if settings.contact_events:
             contact_events(contacts.manifolds, n_man, contacts.points, bodies, tick, touching, events)
