@@ -101,6 +101,21 @@ def _travel(body, i, extent):
     return math.sqrt(body[i, DX] * body[i, DX] + body[i, DY] * body[i, DY]) + turn * extent[i]
 
 
+@inlined
+def _path_held(geometry, body, i, extent, exact):
+    """Whether body i's path through the tick stayed inside its hitboxes: its displacement strays from
+    the one they were swept for by less than they were grown by for the margin and turning. The turn
+    bounded from its sine (`_travel`), or `exact`."""
+    planned = geometry.travel
+    if exact:
+        turn = abs(math.atan2(body[i, SIN], body[i, COS]))
+    else:
+        turn = 0.5 * math.pi * abs(body[i, SIN]) if body[i, COS] >= 0.0 else math.pi
+    ox, oy = body[i, DX] - planned[i, 0], body[i, DY] - planned[i, 1]
+    spare = geometry.reach[i] - math.sqrt(planned[i, 0] * planned[i, 0] + planned[i, 1] * planned[i, 1])
+    return math.sqrt(ox * ox + oy * oy) + turn * extent[i] <= spare
+
+
 @tick_kernel
 def hold_back_passes(pair_keys, n_pairs, paired, bodies, shapes, geometry, body, dt, margin, sweep, work):
     """Sweep the candidate pairs that got no contact along the tick's paths of their bodies (those that
@@ -134,16 +149,15 @@ def hold_back_passes(pair_keys, n_pairs, paired, bodies, shapes, geometry, body,
             scratch[a, EARLIEST] = min(scratch[a, EARLIEST], f)
         if hold_b:
             scratch[b, EARLIEST] = min(scratch[b, EARLIEST], f)
-    hitbox, reach, fixed = geometry.hitbox, geometry.reach, work.fixed
+    hitbox, fixed = geometry.hitbox, work.fixed
     n_fixed = -1
     for i in range(scratch.shape[0]):
-        travel = scratch[i, TRAVEL]
-        if body_type[i] != DYNAMIC or travel <= reach[i]:
+        if body_type[i] != DYNAMIC or _path_held(geometry, body, i, extent, False):
             continue  # its hitboxes held its path: its pairs were swept above
-        turn = math.atan2(body[i, SIN], body[i, COS])  # the bound from the sine was not enough: exactly
-        travel = math.sqrt(body[i, DX] * body[i, DX] + body[i, DY] * body[i, DY]) + abs(turn) * extent[i]
-        if travel <= reach[i]:
+        if _path_held(geometry, body, i, extent, True):  # the bound from the sine was not enough: exactly
             continue
+        turn = math.atan2(body[i, SIN], body[i, COS])
+        travel = math.sqrt(body[i, DX] * body[i, DX] + body[i, DY] * body[i, DY]) + abs(turn) * extent[i]
         if n_fixed < 0:
             n_fixed = _fixed_shapes(bodies, shapes, fixed)
         grow = travel + LINEAR_SLOP

@@ -2,9 +2,9 @@
 ghosts and hitboxes, and each body's reach.
 
 Shapes are turned from their rest pose by their body's angle (never incrementally, so they keep their
-size). A hitbox is fattened by its body's reach: the speculative distance plus one tick of travel, so
-that contacts are found before bodies meet. Static bodies do not move: their shapes are placed once,
-when the step's buffers are made.
+size). A hitbox covers where the shape goes in the tick at its body's velocity (the box now and the box a
+tick on), grown by the speculative distance and the turning, so that contacts are found before bodies
+meet. Static bodies do not move: their shapes are placed once, when the step's buffers are made.
 """
 
 from __future__ import annotations
@@ -27,15 +27,16 @@ class Geometry(NamedTuple):
     normals: np.ndarray  # (S, MAX_VERTICES, 2)
     centroid: np.ndarray  # (S, 2): a circle's centre
     ghosts: np.ndarray  # (S, 2, 2) chain segments only
-    hitbox: np.ndarray  # (S, 4) xmin, ymin, xmax, ymax, grown by the body's reach
+    hitbox: np.ndarray  # (S, 4) xmin, ymin, xmax, ymax: swept through the tick, grown by margin and turning
     reach: np.ndarray  # (N,) m: speculative distance plus one tick of travel of its cores
+    travel: np.ndarray  # (N, 2) m: the displacement in a tick at the velocity the hitboxes were swept with
 
 
 @njit(cache=True)
 def new_geometry(n_bodies, n_shapes, max_vertices):
     return Geometry(np.zeros((n_shapes, max_vertices, 2)), np.zeros((n_shapes, max_vertices, 2)),
                     np.zeros((n_shapes, 2)), np.zeros((n_shapes, 2, 2)), np.zeros((n_shapes, 4)),
-                    np.zeros(n_bodies))
+                    np.zeros(n_bodies), np.zeros((n_bodies, 2)))
 
 
 @inlined
@@ -87,9 +88,11 @@ def place_faces(shapes, j, px, py, c, s, geometry, row):
 
 @tick_kernel
 def update_geometry(bodies, shapes, margin, dt, statics, geometry):
-    """Place every shape of the active bodies awake (of static ones too when `statics`), and grow each
-    hitbox by its body's reach: the margin plus the farthest its shapes' cores travel in a tick
-    (|v| + |w| extent)."""
+    """Place every shape of the active bodies awake (of static ones too when `statics`), with hitboxes
+    that hold the shape's box now and a tick on at its body's velocity, grown by the margin plus the
+    farthest its cores turn in the tick (|w| extent). Swept rather than grown by the travel on every
+    side: a body pairs only with what lies along its way (the shower of 500 bullets at 100-300 m/s:
+    1.29 -> 0.65 ms a tick; the 3,000 falling compounds' pairs 46,000 -> 30,000 a tick)."""
     # np.int64(0), not the literal 0: one compiled `place_bodies` for this and the parts
     place_bodies(np.int64(0), bodies.x.shape[0], bodies, shapes, margin, dt, statics, geometry)
 
@@ -101,13 +104,17 @@ def place_bodies(start, stop, bodies, shapes, margin, dt, statics, geometry):
         bodies.x, bodies.angle, bodies.v, bodies.w, bodies.extent, bodies.active, bodies.body_type,
         bodies.first_shape, bodies.shape_count, bodies.asleep)
     n_verts, local_centroid, radius = shapes.count, shapes.centroid, shapes.radius
-    centroid, hitbox, reach = geometry.centroid, geometry.hitbox, geometry.reach
+    centroid, hitbox, reach, travel = geometry.centroid, geometry.hitbox, geometry.reach, geometry.travel
     for i in range(start, stop):
         if not active[i] or asleep[i] or (body_type[i] == STATIC and not statics):
             continue  # an asleep body's geometry is that of its pose, which it keeps
         px, py = x[i, 0], x[i, 1]
-        fat = margin + dt * (math.sqrt(v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1]) + abs(w[i]) * extent[i])
-        reach[i] = fat
+        mx, my = dt * v[i, 0], dt * v[i, 1]
+        fat = margin + dt * abs(w[i]) * extent[i]
+        reach[i] = margin + dt * (math.sqrt(v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1]) + abs(w[i]) * extent[i])
+        travel[i, 0] = mx
+        travel[i, 1] = my
+        lo_mx, lo_my, hi_mx, hi_my = min(mx, 0.0), min(my, 0.0), max(mx, 0.0), max(my, 0.0)
         c = 1.0
         s = 0.0
         turned = False
@@ -124,7 +131,7 @@ def place_bodies(start, stop, bodies, shapes, margin, dt, statics, geometry):
                     turned = True
                 lo_x, lo_y, hi_x, hi_y = place_piece(shapes, j, px, py, c, s, geometry, j)
             r = radius[j]
-            hitbox[j, 0] = lo_x - r - fat
-            hitbox[j, 1] = lo_y - r - fat
-            hitbox[j, 2] = hi_x + r + fat
-            hitbox[j, 3] = hi_y + r + fat
+            hitbox[j, 0] = lo_x + lo_mx - r - fat
+            hitbox[j, 1] = lo_y + lo_my - r - fat
+            hitbox[j, 2] = hi_x + hi_mx + r + fat
+            hitbox[j, 3] = hi_y + hi_my + r + fat

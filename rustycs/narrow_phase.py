@@ -195,9 +195,10 @@ def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, sleep
     `contacts` (for at least as many pairs). Returns (manifold count, point count).
 
     A pair's points are kept within `margin` plus the pair's relative travel in one tick, never more than
-    the two bodies' reaches (each the margin plus the body's travel) less the margin, so a pair whose
-    hitboxes (grown by the reach) do not overlap has none: it is passed over (the broad phase's pairs are
-    those of fat hitboxes). A pair not yet touching that
+    the two bodies' reaches (each the margin plus the body's travel) less the margin. A pair whose
+    hitboxes (each shape's way through the tick, grown by the margin and its turning) do not overlap
+    cannot come within the margin at the velocities the tick starts with: it is passed over (the broad
+    phase's pairs are those of fat hitboxes). A pair not yet touching that
     moves more than `margin` in the tick is swept (`time_of_impact`): passing by, it has no points;
     meeting, it has the points of the features that meet, placed on the bodies where they are now.
     With `sleeping` (a world that sleeps), the pairs of bodies asleep are passed over: their points are

@@ -50,6 +50,7 @@ class ThreadScratch(NamedTuple):
     ghosts: np.ndarray  # (T, 2, 2, 2)
     hitbox: np.ndarray  # (T, 2, 4)
     reach: np.ndarray  # (T, 2)
+    travel: np.ndarray  # (T, 2, 2)
     found: np.ndarray  # (P, 2) int64 per part of the pairs: manifolds and points
     bouncy: np.ndarray  # (C,) int64 per part of the chunks: contacts that may bounce
 
@@ -62,7 +63,7 @@ def new_thread_scratch(threads, pairs):
                          np.zeros((t, 2), np.int64), np.zeros((t, 2)), np.zeros((t, 2), np.int64),
                          np.zeros((t, 2), np.int64), np.zeros((t, 2, MAX_VERTICES, 2)),
                          np.zeros((t, 2, MAX_VERTICES, 2)), np.zeros((t, 2, 2)), np.zeros((t, 2, 2, 2)),
-                         np.zeros((t, 2, 4)), np.zeros((t, 2)),
+                         np.zeros((t, 2, 4)), np.zeros((t, 2)), np.zeros((t, 2, 2)),
                          np.zeros((pairs // PAIR_PART + 1, 2), np.int64),
                          np.zeros(pairs // CHUNK_PART + 1, np.int64))
 
@@ -76,7 +77,7 @@ def _collision_of(scratch, t):
 def _sweep_of(scratch, t):
     return Sweep(scratch.kind[t], scratch.radius[t], scratch.count[t], scratch.open_ends[t],
                  Geometry(scratch.vertices[t], scratch.normals[t], scratch.centroid[t], scratch.ghosts[t],
-                          scratch.hitbox[t], scratch.reach[t]))
+                          scratch.hitbox[t], scratch.reach[t], scratch.travel[t]))
 
 
 @parallel_kernel
