@@ -36,6 +36,12 @@ def inlined(function):
     return njit(cache=True, forceinline=True, _nrt=False)(function)
 
 
+def stage(function):
+    """Compile `function` (cached on disk) without reference counting, to be inlined by LLVM into the
+    tick loop (`rustycs.step.step_world`), its one compiled caller."""
+    return njit(cache=True, forceinline=True, _nrt=False)(function)
+
+
 def parallel_kernel(function):
     """Compile `function` (cached on disk) without reference counting, its `prange` loops run by numba's
     threads (`rustycs.threads`)."""

@@ -20,7 +20,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from rustycs.compiling import inlined, tick_kernel
+from rustycs.compiling import inlined, stage
 from rustycs.contact_solver import INV_INERTIA, INV_MASS, LANES
 
 
@@ -58,7 +58,7 @@ def _movable(body, i):
     return body[i, INV_MASS] != 0.0 or body[i, INV_INERTIA] != 0.0
 
 
-@tick_kernel
+@stage
 def schedule(manifolds, n_man, body, batches):
     """Place the first n_man manifolds (sorted by body ids) in chunks of lane slots; returns the chunk
     count. `body` holds the solver rows of the bodies.

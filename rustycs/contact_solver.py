@@ -24,7 +24,7 @@ import numpy as np
 from numba import njit
 
 from rustycs.body_types import DYNAMIC
-from rustycs.compiling import inlined, inlined_early, tick_kernel
+from rustycs.compiling import inlined, inlined_early, stage
 from rustycs.constants import MAX_PUSH_SPEED
 from rustycs.narrow_phase import (
     FRICTION,
@@ -135,7 +135,7 @@ def store_bodies(body, bodies):
         w[i] = body[i, W]
 
 
-@tick_kernel
+@stage
 def prepare(batches, n_chunks, manifolds, points, radius, body, lanes):
     """Fill the lanes of the scheduled contacts: inverse masses, normal, friction, restitution, and per
     point the anchors' products with the normal and the tangent, the effective masses and the

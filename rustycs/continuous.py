@@ -21,7 +21,7 @@ from numba import njit
 
 from rustycs.body_types import DYNAMIC, STATIC
 from rustycs.broad_phase import SHAPE_BITS, SHAPE_MASK
-from rustycs.compiling import inlined, tick_kernel
+from rustycs.compiling import inlined, stage, tick_kernel
 from rustycs.constants import LINEAR_SLOP
 from rustycs.contact_solver import COS, DX, DY, SIN
 from rustycs.time_of_impact import Motion, time_of_impact
@@ -116,7 +116,7 @@ def _path_held(geometry, body, i, extent, exact):
     return math.sqrt(ox * ox + oy * oy) + turn * extent[i] <= spare
 
 
-@tick_kernel
+@stage
 def hold_back_passes(pair_keys, n_pairs, paired, bodies, shapes, geometry, body, dt, margin, sweep, work):
     """Sweep the candidate pairs that got no contact along the tick's paths of their bodies (those that
     moved more than `margin` relative to each other), and move each body held back by one (`_held_back`)

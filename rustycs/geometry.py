@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from rustycs.body_types import STATIC
-from rustycs.compiling import inlined, tick_kernel
+from rustycs.compiling import inlined, stage
 from rustycs.pieces import CHAIN_SEGMENT
 
 
@@ -86,7 +86,7 @@ def place_faces(shapes, j, px, py, c, s, geometry, row):
         _turn(px, py, c, s, shapes.ghosts[j], geometry.ghosts[row], 1)
 
 
-@tick_kernel
+@stage
 def update_geometry(bodies, shapes, margin, dt, statics, geometry):
     """Place every shape of the active bodies awake (of static ones too when `statics`), with hitboxes
     that hold the shape's box now and a tick on at its body's velocity, grown by the margin plus the

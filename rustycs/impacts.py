@@ -20,7 +20,7 @@ bounce warm-starting the next tick would push a row of resting balls apart again
 
 from __future__ import annotations
 
-from rustycs.compiling import inlined, tick_kernel
+from rustycs.compiling import inlined, stage
 from rustycs.constants import BOUNCE_PASSES, BOUNCE_SPEED_TOLERANCE
 from rustycs.contact_solver import (
     L_E,
@@ -248,7 +248,7 @@ def impact_friction(batches, n_chunks, lanes, body):
     return largest
 
 
-@tick_kernel
+@stage
 def may_bounce(batches, n_chunks, lanes, body, threshold):
     """Whether a point of the scheduled contacts closes faster than `threshold` as the tick starts (the
     solver rows `body` before the soft step). The sequence of collisions starts from such a point: with
@@ -269,7 +269,7 @@ def may_bounce(batches, n_chunks, lanes, body, threshold):
     return False
 
 
-@tick_kernel
+@stage
 def resolve_impacts(batches, n_chunks, lanes, body, before, threshold):
     """Bounce the contacts the soft step stopped, from the velocity rows `before` it (overwritten):
     targets, then passes of restitution and friction until no speed changes by more than

@@ -24,7 +24,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from rustycs.compiling import inlined, tick_kernel
+from rustycs.compiling import inlined, stage, tick_kernel
 from rustycs.contact_solver import COS, INV_INERTIA, INV_MASS, SIN, VX, VY, W, softness
 from rustycs.joints import (
     ANGULAR_HERTZ,
@@ -589,7 +589,7 @@ def _body_rotation(angle, rotation, i, tick):
     return rotation[i, 0], rotation[i, 1]
 
 
-@tick_kernel
+@stage
 def prepare_joints(bodies, joints, tick, work):
     """The tick's anchors and axes in world orientation."""
     angle, rotation = bodies.angle, work.rotation

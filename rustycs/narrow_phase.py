@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit
 
 from rustycs.broad_phase import SHAPE_BITS, SHAPE_MASK, hitboxes_overlap
-from rustycs.compiling import inlined, tick_kernel
+from rustycs.compiling import inlined, stage, tick_kernel
 from rustycs.constants import LINEAR_SLOP
 from rustycs.manifold import (
     Collision,
@@ -189,7 +189,7 @@ def _swept_collision(bodies, shapes, geometry, sa, sb, dt, within, count, sweep,
     return impact, collide_pair(sweep, sweep.geometry, 0, 1, within, out)
 
 
-@tick_kernel
+@stage
 def narrow_phase(pair_keys, n_pairs, bodies, shapes, geometry, margin, dt, sleeping, contacts):
     """Manifolds of the first n_pairs candidate pairs (keys (a << SHAPE_BITS) | b), written into
     `contacts` (for at least as many pairs). Returns (manifold count, point count).

@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from rustycs.broad_phase import Pairs, fatten, find_pairs, grown_pairs, new_pairs, pairs_hold
-from rustycs.compiling import tick_kernel
+from rustycs.compiling import stage
 from rustycs.constants import (
     CONTACT_DAMPING_RATIO,
     CONTACT_HERTZ,
@@ -165,7 +165,7 @@ def grown(ws, n_bodies, cells, pairs, points, chunks, events):
                      ws.held_back, ws.joint_work, kept, ws.statics_placed, touching, ws.islands, threads)
 
 
-@tick_kernel
+@stage
 def substeps(batches, n_chunks, lanes, body, bodies, joints, joint_work, joint_soft, forces, h, count, soft,
              stiff):
     """The solver's substeps: integrate velocities, warm start, solve with the soft bias, integrate
