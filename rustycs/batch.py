@@ -40,11 +40,12 @@ class WorldBatch:
             self._status[i] = world._status
             self._clock[i] = world._clock
             world._status, world._clock = self._status[i], self._clock[i]
-            world._stepper_frames = None  # its stepper is made again with these rows
+            world._forget_stepper()  # its stepper is made again with these rows
         self._replaced = np.zeros(count, np.bool_)
         self._steppers = None  # numba typed List of the worlds' steppers
         self._listed: list = []  # the steppers in it
         self._pool = None
+        self._ready = -1  # `World.edits` when every world's stepper was last found ready to step unrecorded
         if self.threads > 1:  # imported here: `import rustycs` loads only numpy and numba
             from concurrent.futures import ThreadPoolExecutor
 
@@ -68,11 +69,13 @@ class WorldBatch:
             raise ValueError(f"a batch of {len(self.worlds)} worlds takes as many frame buffers")
         if records is None:
             every = 0
-        for i, world in enumerate(self.worlds):
-            frames = world._no_frames if records is None else world._frames(records[i], -(-n // every))
-            if frames is not world._stepper_frames:
-                world._prepare(frames)
-        self._list()
+        if records is not None or self._ready != World.edits:
+            for i, world in enumerate(self.worlds):
+                frames = world._no_frames if records is None else world._frames(records[i], -(-n // every))
+                if frames is not world._stepper_frames:
+                    world._prepare(frames)
+            self._list()
+            self._ready = World.edits if records is None else -1
         self._run(n, every)
         for i in np.flatnonzero(self._replaced):
             self.worlds[i]._workspace_replaced()

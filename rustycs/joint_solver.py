@@ -564,7 +564,7 @@ def prepare_springs(joints, h, work):
         _spring(settings[ANGULAR_HERTZ], settings[DAMPING_RATIO], h, work.frames[j], ANGULAR_SPRING_COLUMNS)
 
 
-@tick_kernel
+@inlined
 def prepare_block(joints, h, work):
     """What stays the same for every tick of a block: the passes' order, the springs' softness; and no
     body's rotation computed yet (the tick numbers of a world may start again)."""
@@ -604,7 +604,7 @@ def prepare_joints(bodies, joints, tick, work):
         f[AXIS_X], f[AXIS_Y] = _turned(ca, sa, joints.axis[j, 0], joints.axis[j, 1])
 
 
-@tick_kernel
+@inlined
 def breakable(joints):
     """Whether any joint has a break force or torque: only then are the reactions needed every tick."""
     for j in range(joints.kind.shape[0]):

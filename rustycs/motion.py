@@ -11,14 +11,14 @@ from __future__ import annotations
 import math
 
 from rustycs.body_types import DYNAMIC, STATIC
-from rustycs.compiling import inlined, tick_kernel
+from rustycs.compiling import inlined
 from rustycs.contact_solver import COS, DX, DY, SIN, VX, VY, W
 from rustycs.events import ESCAPE, record_event
 from rustycs.forces import attraction
 from rustycs.sleep import wake_island
 
 
-@tick_kernel
+@inlined
 def damping_factors(bodies, dt, decay):
     """Once per block of ticks: the factors exp(-c dt) by which damping shrinks each body's velocities in
     a tick (linear, angular); returns whether any body is damped."""

@@ -54,7 +54,7 @@ def _step_setting(name: str, doc: str) -> property:
 
     def set_value(world, value) -> None:
         setattr(world, private, value)
-        world._stepper_frames = None
+        world._forget_stepper()
 
     return property(lambda world: getattr(world, private), set_value, doc=doc)
 
@@ -85,6 +85,11 @@ class World(BodyControl, WorldQueries, WorldScenario):
     the acceleration G*M/max(d, min_distance)^2; forces are constant accelerations. Bodies may appear
     and go during a run, and measures and stop conditions watch it (`WorldScenario`).
     """
+
+    # bumped whenever a world's stepper is made again or must be: a batch of worlds unchanged since its last
+    # step does not look at each (`rustycs.batch`: 1,024 looks were most of a call stepping one tick)
+    edits = 0
+
 
     def __init__(self, tick_rate: float = defaults.TICK_RATE, precision: int = defaults.PRECISION,
                  gravitational_constant: float = defaults.GRAVITATIONAL_CONSTANT, bounds=None,
@@ -150,7 +155,7 @@ class World(BodyControl, WorldQueries, WorldScenario):
         if not 1 <= int(value) <= defaults.MAX_THREADS:
             raise ValueError(f"threads must be from 1 to {defaults.MAX_THREADS}")
         self._threads = int(value)
-        self._stepper_frames = None
+        self._forget_stepper()
 
     contact_events = _step_setting("contact_events", "Whether contact_begin and contact_end events are "
                                                      "recorded (also on when a measure or stop condition "
@@ -452,7 +457,12 @@ class World(BodyControl, WorldQueries, WorldScenario):
     def _remake(self) -> None:
         """The world's records changed: the kernels' records and the stepper are made again."""
         self._inputs = None
+        self._forget_stepper()
+
+    def _forget_stepper(self) -> None:
+        """The stepper no longer holds the world as it is: it is made again before the next step."""
         self._stepper_frames = None
+        World.edits += 1
 
     def _changed(self) -> None:
         """The world's make-up changed: the kernels' inputs and the step's buffers are made again (the
@@ -568,9 +578,9 @@ class World(BodyControl, WorldQueries, WorldScenario):
             numba.set_num_threads(min(self._threads, numba.config.NUMBA_NUM_THREADS))
         if self._entry(self._stepper, n, every):
             self._workspace_replaced()
-        if self._status[BAD_BODY] >= 0:
+        if self._status.item(BAD_BODY) >= 0:  # `item`: no numpy scalar (a tenth of a 5-body step(1))
             raise self._divergence()
-        return int(self._status[FRAMES])
+        return 0 if record is None else self._status.item(FRAMES)
 
     def _workspace_replaced(self) -> None:
         """Take the workspace the step grew (boxing it back costs about 80 us: only when it was replaced)."""
@@ -600,6 +610,7 @@ class World(BodyControl, WorldQueries, WorldScenario):
         self._stepper = new_stepper(*inputs[:5], self._settings(inputs), self._workspace, inputs.scenario,
                                     frames, self._status, self._clock)
         self._stepper_frames = frames
+        World.edits += 1
         # zero ticks through numba's dispatcher: it loads (or compiles) the kernel; then its entry
         step_world(self._stepper, 0, 0)
         self._entry = compiled_entry(step_world, (self._stepper, 0, 0))

@@ -85,6 +85,13 @@ def test_worlds_of_a_batch_can_still_be_changed_and_stepped_alone():
     assert state(together) == state(alone) and together.tick == 25
     batch.step(1)
     assert batch.ticks.tolist() == [21, 26]
+    # stepped alone with a record, a world's stepper is made again: the batch steps the new one
+    together.step(2, record=together.frame_buffer(2))
+    batch.step(3)
+    alone.step(1)
+    alone.step(2, record=alone.frame_buffer(2))
+    alone.step(3)
+    assert state(together) == state(alone) and batch.ticks.tolist() == [24, 31]
 
 
 def test_a_stop_condition_ends_only_its_worlds_block():

@@ -64,14 +64,14 @@ def step(engine: str, ref: str, max_ticks: int | None, block: int, metrics: list
         warm_up(threads)  # compiling or loading the kernels is not stepping, nor is making the buffers
         world.prepare()
         build_s = perf() - began
-        elapsed = 0.0
-        done = 0
-        while done < ticks:
-            count = min(block, ticks - done)
-            t0 = perf()
-            world.step(count)
-            elapsed += perf() - t0
-            done += count
+        step = world.step
+        blocks, rest = divmod(ticks, block)
+        t0 = perf()  # the loop timed as a whole, as the peers' (a clock read a call was 0.1 us of a tick)
+        for _ in range(blocks):
+            step(block)
+        if rest:
+            step(rest)
+        elapsed = perf() - t0
         end = np.column_stack([world.positions, world.angles])
         active = world.active
         ran = dict(sleep=world.sleep, threads=world.threads)
