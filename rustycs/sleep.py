@@ -83,6 +83,16 @@ def _moving(bodies, i):
 
 
 @inlined
+def nothing_moves(bodies):
+    """Whether no body reaches anything (`_moving`): every active dynamic body asleep, every kinematic
+    one still."""
+    for i in range(bodies.asleep.shape[0]):
+        if _moving(bodies, i):
+            return False
+    return True
+
+
+@inlined
 def _sleeping(bodies, i):
     return i >= 0 and bodies.asleep[i]
 

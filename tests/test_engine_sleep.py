@@ -183,3 +183,21 @@ def test_sleeping_is_deterministic():
         runs.append((world.centers, world.asleep, world.velocities[ball]))
     for a, b in zip(*runs, strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+def test_ticks_in_which_nothing_moves_change_nothing():
+    """A sleeping world in which nothing moves skips the stages of its ticks: pushed after 100 such ticks,
+    it goes on bitwise as pushed after one."""
+    early, late = stack(sleep=True), stack(sleep=True)
+    for world, rest in ((early, 1), (late, 100)):
+        world.step(60)
+        assert world.asleep[1:].all()
+        world.step(rest)
+        world.set_velocity(6, (3.0, 0.0))  # the top box, pushed: its island wakes
+        world.step(60)
+    assert early.tick + 99 == late.tick
+    assert not early.asleep.any()
+    np.testing.assert_array_equal(early.centers, late.centers)
+    np.testing.assert_array_equal(early.velocities, late.velocities)
+    np.testing.assert_array_equal(early.angles, late.angles)
+    assert early.centers[6][0] > 0.5  # the push moved the top box
