@@ -455,23 +455,27 @@ def _solve_lanes(c, lanes, inv_h, use_bias, soft, stiff, points):
             vbx += mb * nx * impulse
             vby += mb * ny * impulse
             wb += ib * (rnb1 * impulse1 + rnb2 * impulse2)
-        tx, ty = ny, -nx
-        mu = lanes[o + L_MU]
-        for k in range(0 if use_bias else points):  # friction in the relax pass only (see `solve`)
-            q = point_index(o, k)
-            rta, rtb = lanes[q + P_RTA], lanes[q + P_RTB]
-            vt = relative_speed(vax, vay, wa, vbx, vby, wb, tx, ty, rta, rtb)
-            limit = mu * lanes[q + P_NORMAL_IMPULSE]
-            old = lanes[q + P_TANGENT_IMPULSE]
-            total = min(max(old - lanes[q + P_TANGENT_MASS] * vt, -limit), limit)
-            lanes[q + P_TANGENT_IMPULSE] = total
-            impulse = total - old
-            vax -= ma * tx * impulse
-            vay -= ma * ty * impulse
-            wa -= ia * rta * impulse
-            vbx += mb * tx * impulse
-            vby += mb * ty * impulse
-            wb += ib * rtb * impulse
+        # friction in the relax pass only (see `solve`); tested outside the loop, not as its length: an
+        # empty loop left in the biased pass made LLVM solve lane 0 alone and the other 7 as a vector,
+        # whose loads then waited on lane 0's stores
+        if not use_bias:
+            tx, ty = ny, -nx
+            mu = lanes[o + L_MU]
+            for k in range(points):
+                q = point_index(o, k)
+                rta, rtb = lanes[q + P_RTA], lanes[q + P_RTB]
+                vt = relative_speed(vax, vay, wa, vbx, vby, wb, tx, ty, rta, rtb)
+                limit = mu * lanes[q + P_NORMAL_IMPULSE]
+                old = lanes[q + P_TANGENT_IMPULSE]
+                total = min(max(old - lanes[q + P_TANGENT_MASS] * vt, -limit), limit)
+                lanes[q + P_TANGENT_IMPULSE] = total
+                impulse = total - old
+                vax -= ma * tx * impulse
+                vay -= ma * ty * impulse
+                wa -= ia * rta * impulse
+                vbx += mb * tx * impulse
+                vby += mb * ty * impulse
+                wb += ib * rtb * impulse
         lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA] = vax, vay, wa
         lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB] = vbx, vby, wb
 
