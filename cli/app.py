@@ -6,6 +6,7 @@ stays fast.
 
 from __future__ import annotations
 
+import os
 import signal
 import sys
 import warnings
@@ -63,6 +64,26 @@ def main() -> None:
     except KeyboardInterrupt:
         print("rustycs: interrupted", file=sys.stderr)
         sys.exit(130)
+
+
+def program() -> None:
+    """The `rustycs` console script: `main`, then the process ends without tearing the interpreter down.
+    By then every output is written, closed and renamed into place, and what is left is freeing the
+    engine's compiled code and the libraries' objects: 0.4 of the 1.45 s of a warm `rustycs run` of a
+    five-body scene. An unexpected exception still ends the normal way, with its traceback."""
+    try:
+        main()
+        code = 0
+    except SystemExit as done:
+        code = done.code
+    if code is None:
+        code = 0
+    elif not isinstance(code, int):  # as Python reports sys.exit("message")
+        print(code, file=sys.stderr)
+        code = 1
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)
 
 
 def _interrupt(_signum: int, _frame: object) -> None:

@@ -381,8 +381,8 @@ def test_sigterm_while_loading_is_an_interruption(tmp_path: Path) -> None:
 
     fifo = tmp_path / "scene.yaml"
     os.mkfifo(fifo)  # opening it blocks until a writer comes: the program is loading
-    process = subprocess.Popen([sys.executable, "-c", "from rustycs_cli.app import main; main()", "validate",
-                                str(fifo)], stderr=subprocess.PIPE, text=True)
+    process = subprocess.Popen([sys.executable, "-c", "from rustycs_cli.app import program; program()",
+                                "validate", str(fifo)], stderr=subprocess.PIPE, text=True)
     wchan = Path(f"/proc/{process.pid}/wchan")
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline and wchan.read_text() not in ("wait_for_partner", "fifo_open"):
@@ -425,7 +425,7 @@ def test_the_frames_of_a_killed_run_are_recovered(cli, tmp_path: Path) -> None:
 
     scene, out = tmp_path / "long.yaml", tmp_path / "long.h5"
     scene.write_text(LONG)
-    process = subprocess.Popen([sys.executable, "-c", "from rustycs_cli.app import main; main()", "run",
+    process = subprocess.Popen([sys.executable, "-c", "from rustycs_cli.app import program; program()", "run",
                                 str(scene), "--out", str(out), "--quiet", "--allow-full-disk"],
                                stderr=subprocess.PIPE)
     temporary = tmp_path / f".long.h5.tmp-{process.pid}"
@@ -480,9 +480,10 @@ def test_workers_of_a_killed_sweep_keep_their_frames_and_exit(tmp_path: Path) ->
 
     scene, out = tmp_path / "long.yaml", tmp_path / "sweep"
     scene.write_text(LONG)
-    process = subprocess.Popen([sys.executable, "-c", "from rustycs_cli.app import main; main()", "sweep",
-                                str(scene), "-p", "world.precision=1,2", "--local", "processes", "-w", "2",
-                                "--every", "100000", "--out", str(out), "--quiet"], stderr=subprocess.PIPE)
+    process = subprocess.Popen([sys.executable, "-c", "from rustycs_cli.app import program; program()",
+                                "sweep", str(scene), "-p", "world.precision=1,2", "--local", "processes",
+                                "-w", "2", "--every", "100000", "--out", str(out), "--quiet"],
+                               stderr=subprocess.PIPE)
     try:
         def running() -> list[int]:
             names = [p.name for p in out.glob(".*.h5.tmp-*")] if out.exists() else []

@@ -46,7 +46,7 @@ def test_signal_stops_the_run_with_a_valid_file(tmp_path: Path, signum: int):
     scene.write_text(LONG_SCENE)
     out = tmp_path / "long.h5"
     process = subprocess.Popen(
-        [sys.executable, "-c", "from rustycs_cli.app import main; main()", "run", str(scene), "--out",
+        [sys.executable, "-c", "from rustycs_cli.app import program; program()", "run", str(scene), "--out",
          str(out), "--json"],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
     )

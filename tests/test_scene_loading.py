@@ -354,7 +354,7 @@ def test_validate_in_a_subprocess(tmp_path: Path, text: str | None, expected: st
     if text is not None:
         scene.write_text(text)
     done = subprocess.run(
-        [sys.executable, "-c", "from rustycs_cli.app import main; main()", "validate", str(scene)],
+        [sys.executable, "-c", "from rustycs_cli.app import program; program()", "validate", str(scene)],
         capture_output=True,
         text=True,
         timeout=120,

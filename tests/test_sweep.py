@@ -286,7 +286,7 @@ def test_signal_stops_a_pool_sweep(tiny, tmp_path, signum, whole_group, local, b
     the two workers runs a batch of `batch` variants."""
     out = tmp_path / "sig"
     process = subprocess.Popen(
-        [sys.executable, "-c", "from rustycs_cli.app import main; main()", "sweep", str(tiny),
+        [sys.executable, "-c", "from rustycs_cli.app import program; program()", "sweep", str(tiny),
          "-p", "world.precision=3,5,7,9,11", "--ticks", "100000000", "--out", str(out), "-w", "2",
          "--local", local, "--batch", str(batch), "--allow-full-disk", "--json"],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
