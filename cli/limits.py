@@ -54,7 +54,7 @@ MAX_GROUP = Limit("MAX_GROUP", 2**31 - 1)  # collision_group, stored as int32
 MAX_BITS = Limit("MAX_BITS", 2**63 - 1)  # collision category and mask, int64 in the engine
 
 # ---------------------------------------------------------------------------------- sizes of inputs
-MAX_BODIES = Limit("MAX_BODIES", 200_000)  # bodies of one scene, listed and generated together
+MAX_BODIES = Limit("MAX_BODIES", 1_000_000)  # bodies of one scene, listed and generated together
 MAX_SHAPES = Limit("MAX_SHAPES", 1_000_000)  # shapes of all the bodies of one scene
 POLYGON_VERTICES = Limit("MAX_POLYGON_VERTICES", MAX_POLYGON_VERTICES)
 CHAIN_POINTS = Limit("MAX_CHAIN_POINTS", MAX_CHAIN_POINTS)

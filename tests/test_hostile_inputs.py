@@ -193,7 +193,7 @@ def test_too_many_bodies_are_refused_before_any_work() -> None:
     text = ("generators:\n  - {name: g, count: 1000000000, shape: {type: circle, radius: 0.1},\n"
             "     region: {min: [0, 0], max: [1, 1]}}\n")
     assert problems_of(text) == [
-        "s.yaml:2:22: generators.g.count: the scene has 1000000000 bodies, more than 200000 "
+        "s.yaml:2:22: generators.g.count: the scene has 1000000000 bodies, more than 1000000 "
         "(MAX_BODIES, see docs/limits.md)"]
     pyramid = ("generators:\n  - {name: p, shape: {type: circle, radius: 0.1},\n"
                "     layout: {pyramid: {base: 100000, origin: [0, 0], spacing: [1, 1]}}}\n")
