@@ -76,3 +76,24 @@ def test_a_world_whose_filters_keep_every_shape_apart_has_no_broad_phase_and_one
     assert len(debug.pairs(meeting)) == 1
     meeting.step(15)
     assert meeting.centers[0, 0] < -0.5 < 0.5 < meeting.centers[1, 0]  # they met and bounced back
+
+
+def test_a_turning_wall_with_hundreds_of_partners_gets_exactly_the_pairs_of_its_fat_hitbox_in_order():
+    """A long kinematic wall turned 45 degrees, its hitbox over a field of 400 circles (a tumbler's drum
+    wall): its partners are found in cell order and sorted as a run (heapsort above 32 partners). The
+    pairs are exactly those of overlapping fat hitboxes, each once, sorted by (a, b)."""
+    rng = np.random.default_rng(7)
+    world = World(tick_rate=60, precision=4)
+    world.add_body(Box(30.0, 0.5), position=(0.0, 0.0), angle=np.pi / 4, angular_velocity=0.5,
+                   body_type="kinematic")
+    for x, y in rng.uniform(-9.0, 9.0, size=(400, 2)):
+        world.add_body(Circle(0.2), position=(float(x), float(y)), velocity=(0.0, -1.0))
+    for _ in range(5):
+        world.step(1)
+        found = debug.pairs(world)
+        fat = debug.fat_hitboxes(world)
+        overlap = ((fat[:, None, 0] <= fat[None, :, 2]) & (fat[None, :, 0] <= fat[:, None, 2])
+                   & (fat[:, None, 1] <= fat[None, :, 3]) & (fat[None, :, 1] <= fat[:, None, 3]))
+        expected = np.argwhere(np.triu(overlap, 1))  # row-major: sorted by (a, b)
+        np.testing.assert_array_equal(found, expected)
+        assert (found[:, 0] == 0).sum() > 100  # the wall's run is long enough for the heapsort
