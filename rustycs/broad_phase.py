@@ -300,8 +300,8 @@ def find_pairs(bodies, shapes, joints, joint_filter, pairs):
 @inlined
 def _sort(values, lo, hi):
     """Sort values[lo:hi] in place: by insertion when short (a body's few partners, found nearly in
-    order), else by heapsort. Insertion alone took 2 ms a tick in the tumbler, whose four walls each
-    have ~2,000 partners found in cell order (m^2 / 4 moves each)."""
+    order), else by heapsort. Insertion alone was 0.3 of the 1.35 ms of the tumbler's `find_pairs`: two
+    of its drum's walls have ~1,000 partners each, found in cell order (m^2 / 4 moves each)."""
     if hi - lo <= 32:
         for k in range(lo + 1, hi):
             value = values[k]
