@@ -27,6 +27,7 @@ from rustycs.body_types import DYNAMIC
 from rustycs.compiling import inlined, tick_kernel
 from rustycs.events import EVENT_KIND_NAMES, involves
 from rustycs.observables import body_origin, contact_statistics, energies_and_momenta
+from rustycs.sorting import sort_run
 
 VALUE, COUNT_INSIDE, HISTOGRAM, FIRST, TIME_INSIDE = range(5)
 FORM_NAMES = ("value", "count_inside", "histogram", "first", "time_inside")
@@ -177,14 +178,8 @@ def _counts(bodies, i):
 
 @inlined
 def _median(values, n):
-    """The median of values[:n] (sorted in place by insertion: sets are small)."""
-    for i in range(1, n):
-        key = values[i]
-        j = i - 1
-        while j >= 0 and values[j] > key:
-            values[j + 1] = values[j]
-            j -= 1
-        values[j + 1] = key
+    """The median of values[:n] (sorted in place)."""
+    sort_run(values, 0, n)
     return values[n // 2] if n % 2 == 1 else 0.5 * (values[n // 2 - 1] + values[n // 2])
 
 
