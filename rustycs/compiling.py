@@ -22,7 +22,10 @@ before LLVM first sees them (12 s more compiling).
 
 from __future__ import annotations
 
-from numba import njit
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
+from numba.np.arrayobj import make_array, populate_array
 
 
 def tick_kernel(function):
@@ -51,3 +54,25 @@ def parallel_kernel(function):
 def inlined_early(function):
     """Compile `function` into each caller's own code before LLVM optimises it (numba's inlining)."""
     return njit(cache=True, inline="always")(function)
+
+
+def stack_buffer(size: int):
+    """A compiled function that returns an array of `size` float64 on its caller's stack. LLVM knows such
+    an array shares memory with no array argument, so a loop that reads the step's buffers and writes it
+    is vectorised; one that writes a second array argument is not (LLVM cannot tell the two apart, and
+    gave up on the contact solver's lane loop)."""
+    array = types.Array(types.float64, 1, "C")
+
+    @intrinsic
+    def buffer(typingctx):
+        def codegen(context, builder, signature, args):
+            length = context.get_constant(types.intp, size)
+            item = context.get_constant(types.intp, 8)
+            out = make_array(array)(context, builder)
+            data = cgutils.alloca_once(builder, context.get_value_type(types.float64), size=length)
+            populate_array(out, data=data, shape=[length], strides=[item], itemsize=item, meminfo=None)
+            return out._getvalue()
+
+        return array(), codegen
+
+    return buffer

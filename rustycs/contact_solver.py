@@ -11,9 +11,9 @@ motion since the narrow phase, so substeps see the overlap shrink.
 
 The contacts are solved in the chunks of `contact_batches.schedule`: `LANES` contacts that share no
 movable body, side by side in the lane buffer. A pass over a chunk gathers its bodies' velocities
-into the lanes, solves all lanes at once (the loop has no dependencies between lanes, so LLVM turns it
-into SIMD instructions) and scatters the velocities back; chunk after chunk, that is exactly the
-sequence of contacts sorted by body ids, applied to each body in that order.
+into a chunk's worth of fields on the stack, solves all lanes at once (the loop has no dependencies
+between lanes, so LLVM turns it into SIMD instructions) and scatters the velocities back; chunk after
+chunk, that is exactly the sequence of contacts sorted by body ids, applied to each body in that order.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ import numpy as np
 from numba import njit
 
 from rustycs.body_types import DYNAMIC
-from rustycs.compiling import inlined, inlined_early, stage
+from rustycs.compiling import inlined, inlined_early, stack_buffer, stage
 from rustycs.constants import MAX_PUSH_SPEED
 from rustycs.narrow_phase import (
     FRICTION,
@@ -47,14 +47,15 @@ BODY_COLUMNS = 12
 # The lane buffer: chunks of `LANES` contacts, each field of a chunk `LANES` values wide (field f of
 # lane j at the chunk's start + f * LANES + j), so that a loop over a chunk's lanes reads and writes
 # consecutive values. Offsets are unsigned: numba then indexes without wrap-around checks, which keep
-# LLVM from vectorising. A contact's fields: inverse masses, normal, friction, restitution, then what
-# each pass gathers from the bodies (velocities, the approach of the centres along the normal and the
-# rotations since the narrow phase), and the inverse determinant of its two points' effective mass
-# matrix (0 for one point, or points that act as one: see `_two_points`).
+# LLVM from vectorising. A contact's fields: inverse masses, normal, friction, restitution, the
+# approach of the centres along the normal and the rotations since the narrow phase (gathered by the
+# relax pass, right after the positions moved, for the biased pass of the next substep too), and the
+# inverse determinant of its two points' effective mass matrix (0 for one point, or points that act as
+# one: see `_two_points`).
 LANES = 8
-(L_MA, L_IA, L_MB, L_IB, L_NX, L_NY, L_MU, L_E, L_VAX, L_VAY, L_WA, L_VBX, L_VBY, L_WB, L_DN, L_CA, L_SA,
- L_CB, L_SB, L_INV_DET) = (np.uint64(f * LANES) for f in range(20))
-CONTACT_FIELDS = 20
+(L_MA, L_IA, L_MB, L_IB, L_NX, L_NY, L_MU, L_E, L_DN, L_CA, L_SA, L_CB, L_SB,
+ L_INV_DET) = (np.uint64(f * LANES) for f in range(14))
+CONTACT_FIELDS = 14
 # a point's fields, from its first: the anchors' cross products with the normal and the tangent and
 # dot products with the normal, the separation less the anchors' projection, effective masses,
 # accumulated impulses, the normal impulse of the whole tick (each substep's accumulated one, summed by
@@ -64,6 +65,14 @@ CONTACT_FIELDS = 20
  P_TANGENT_IMPULSE, P_TICK_NORMAL_IMPULSE, P_BOUNCE) = (np.uint64(f * LANES) for f in range(13))
 POINT_FIELDS = 13
 LANE_FIELDS = CONTACT_FIELDS + 2 * POINT_FIELDS
+# The velocities a pass gathers from the bodies of the chunk it solves go to one chunk's worth of fields
+# on the stack, laid out as a chunk's, rather than to room kept in every contact (6 fields of 46): the
+# 58,000 contacts of many_pyramids, 21 MB of lanes, stream from memory on every pass, and their substeps
+# took 7.4-7.6 ms a tick instead of 11-13 (the 5,050-box pyramid's, in cache, 1.22-1.37 against 1.25-1.42).
+# Also gathering the poses there (11 fields) cost that pyramid 18 % more: the biased pass gathers them again.
+GATHERED_FIELDS = 6
+G_VAX, G_VAY, G_WA, G_VBX, G_VBY, G_WB = (np.uint64(f * LANES) for f in range(GATHERED_FIELDS))
+_gathered_area = stack_buffer(GATHERED_FIELDS * LANES)
 _CHUNK = np.uint64(LANE_FIELDS * LANES)
 _FIRST_POINT = np.uint64(CONTACT_FIELDS * LANES)
 _POINT_STRIDE = np.uint64(POINT_FIELDS * LANES)
@@ -240,45 +249,53 @@ def store_impulses(batches, n_chunks, manifolds, lanes, points):
 
 
 @inlined_early
-def _gather(batches, c, body, lanes, poses):
-    """Load the velocities of a chunk's bodies into its lanes; with `poses`, also the approach of the
-    centres along the normal and the rotations since the narrow phase. Empty lanes keep their zeros."""
+def _gather(batches, c, body, lanes, gathered, poses):
+    """Load the velocities of chunk c's bodies into `gathered`; with `poses`, also the approach of the
+    centres along the normal and the rotations since the narrow phase. Empty lanes get zeros (no impulse
+    comes of them)."""
     fill, slot_a, slot_b = batches.fill, batches.slot_a, batches.slot_b
     for j in range(fill[c]):
         o = lane_index(c, j)
+        g = np.uint64(j)
         a = slot_a[c * LANES + j]
         b = slot_b[c * LANES + j]
-        lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA] = body[a, VX], body[a, VY], body[a, W]
-        lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB] = body[b, VX], body[b, VY], body[b, W]
+        gathered[g + G_VAX], gathered[g + G_VAY], gathered[g + G_WA] = body[a, VX], body[a, VY], body[a, W]
+        gathered[g + G_VBX], gathered[g + G_VBY], gathered[g + G_WB] = body[b, VX], body[b, VY], body[b, W]
         if poses:
             nx, ny = lanes[o + L_NX], lanes[o + L_NY]
             lanes[o + L_DN] = (body[b, DX] - body[a, DX]) * nx + (body[b, DY] - body[a, DY]) * ny
             lanes[o + L_CA], lanes[o + L_SA] = body[a, COS], body[a, SIN]
             lanes[o + L_CB], lanes[o + L_SB] = body[b, COS], body[b, SIN]
+    for j in range(fill[c], LANES):
+        _zero(gathered, np.uint64(j), GATHERED_FIELDS)
 
 
 @inlined_early
-def _scatter(batches, c, lanes, body):
-    """Write a chunk's velocities back to its bodies, except immovable ones: the lanes of a chunk may
-    share those, and they are never written, so that no contact waits for another through them."""
+def _scatter(batches, c, gathered, body):
+    """Write chunk c's velocities back from `gathered` to its bodies, except immovable ones: the lanes of
+    a chunk may share those, and they are never written, so that no contact waits for another through
+    them."""
     fill, slot_a, slot_b = batches.fill, batches.slot_a, batches.slot_b
     for j in range(fill[c]):
-        o = lane_index(c, j)
+        g = np.uint64(j)
         a = slot_a[c * LANES + j]
         b = slot_b[c * LANES + j]
         if body[a, INV_MASS] != 0.0 or body[a, INV_INERTIA] != 0.0:
-            body[a, VX], body[a, VY], body[a, W] = lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA]
+            body[a, VX], body[a, VY], body[a, W] = (
+                gathered[g + G_VAX], gathered[g + G_VAY], gathered[g + G_WA])
         if body[b, INV_MASS] != 0.0 or body[b, INV_INERTIA] != 0.0:
-            body[b, VX], body[b, VY], body[b, W] = lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB]
+            body[b, VX], body[b, VY], body[b, W] = (
+                gathered[g + G_VBX], gathered[g + G_VBY], gathered[g + G_WB])
 
 
 @inlined_early
-def _warm_start_lanes(c, lanes, points):
+def _warm_start_lanes(c, lanes, gathered, points):
     for j in range(LANES):
         o = lane_index(c, j)
+        g = np.uint64(j)
         ma, ia, mb, ib = lanes[o + L_MA], lanes[o + L_IA], lanes[o + L_MB], lanes[o + L_IB]
-        vax, vay, wa = lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA]
-        vbx, vby, wb = lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB]
+        vax, vay, wa = gathered[g + G_VAX], gathered[g + G_VAY], gathered[g + G_WA]
+        vbx, vby, wb = gathered[g + G_VBX], gathered[g + G_VBY], gathered[g + G_WB]
         nx, ny = lanes[o + L_NX], lanes[o + L_NY]
         for k in range(points):
             q = point_index(o, k)
@@ -292,21 +309,22 @@ def _warm_start_lanes(c, lanes, points):
             vbx += mb * px
             vby += mb * py
             wb += ib * (jn * lanes[q + P_RNB] + jt * lanes[q + P_RTB])
-        lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA] = vax, vay, wa
-        lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB] = vbx, vby, wb
+        gathered[g + G_VAX], gathered[g + G_VAY], gathered[g + G_WA] = vax, vay, wa
+        gathered[g + G_VBX], gathered[g + G_VBY], gathered[g + G_WB] = vbx, vby, wb
 
 
 @inlined_early
 def warm_start(batches, n_chunks, lanes, body):
     """Apply the accumulated impulses again at the start of a substep."""
     chunk_points = batches.chunk_points
+    gathered = _gathered_area()
     for c in range(n_chunks):
-        _gather(batches, c, body, lanes, False)
+        _gather(batches, c, body, lanes, gathered, False)
         if chunk_points[c] == 2:  # a compile-time point count: the lane loop has no inner loop left
-            _warm_start_lanes(c, lanes, 2)
+            _warm_start_lanes(c, lanes, gathered, 2)
         else:
-            _warm_start_lanes(c, lanes, 1)
-        _scatter(batches, c, lanes, body)
+            _warm_start_lanes(c, lanes, gathered, 1)
+        _scatter(batches, c, gathered, body)
 
 
 @inlined_early
@@ -391,12 +409,13 @@ def _two_points(k11, k12, k22, b1, b2, inv_det, normal_mass1, normal_mass2):
 
 
 @inlined_early
-def _solve_lanes(c, lanes, inv_h, use_bias, soft, stiff, points):
+def _solve_lanes(c, lanes, gathered, inv_h, use_bias, soft, stiff, points):
     for j in range(LANES):
         o = lane_index(c, j)
+        g = np.uint64(j)
         ma, ia, mb, ib = lanes[o + L_MA], lanes[o + L_IA], lanes[o + L_MB], lanes[o + L_IB]
-        vax, vay, wa = lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA]
-        vbx, vby, wb = lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB]
+        vax, vay, wa = gathered[g + G_VAX], gathered[g + G_VAY], gathered[g + G_WA]
+        vbx, vby, wb = gathered[g + G_VBX], gathered[g + G_VBY], gathered[g + G_WB]
         nx, ny = lanes[o + L_NX], lanes[o + L_NY]
         # against an immovable body the stiffer softness: only one side gives way
         rate, mscale, iscale = stiff if ma == 0.0 or mb == 0.0 else soft
@@ -476,8 +495,8 @@ def _solve_lanes(c, lanes, inv_h, use_bias, soft, stiff, points):
                 vbx += mb * tx * impulse
                 vby += mb * ty * impulse
                 wb += ib * rtb * impulse
-        lanes[o + L_VAX], lanes[o + L_VAY], lanes[o + L_WA] = vax, vay, wa
-        lanes[o + L_VBX], lanes[o + L_VBY], lanes[o + L_WB] = vbx, vby, wb
+        gathered[g + G_VAX], gathered[g + G_VAY], gathered[g + G_WA] = vax, vay, wa
+        gathered[g + G_VBX], gathered[g + G_VBY], gathered[g + G_WB] = vbx, vby, wb
 
 
 @inlined_early
@@ -497,18 +516,16 @@ def solve(batches, n_chunks, lanes, body, inv_h, use_bias, soft, stiff):
     sideways. With the points together where the faces meet the crate leaves at exactly 1.5 m/s, the box
     lands straight (0.0005 m/s), the top of the 5,050-box pyramid moves 7 cm sideways and sinks 0.46 m
     (Box2D v3: 0.73), and the worst box of bases 20, 40, 60 moves 1.0, 3.6, 7.9 cm. Resting points taken
-    together in the biased pass as well made the stacks softer (base 60: 15 cm).
-
-    The bodies' poses are gathered by the pass without bias (the relax pass, right after the positions
-    moved) and serve the biased pass of the next substep too: the positions do not move in between."""
+    together in the biased pass as well made the stacks softer (base 60: 15 cm)."""
     chunk_points = batches.chunk_points
+    gathered = _gathered_area()
     for c in range(n_chunks):
-        _gather(batches, c, body, lanes, not use_bias)
+        _gather(batches, c, body, lanes, gathered, not use_bias)
         if chunk_points[c] == 2:
-            _solve_lanes(c, lanes, inv_h, use_bias, soft, stiff, 2)
+            _solve_lanes(c, lanes, gathered, inv_h, use_bias, soft, stiff, 2)
         else:
-            _solve_lanes(c, lanes, inv_h, use_bias, soft, stiff, 1)
-        _scatter(batches, c, lanes, body)
+            _solve_lanes(c, lanes, gathered, inv_h, use_bias, soft, stiff, 1)
+        _scatter(batches, c, gathered, body)
 
 
 @inlined_early
