@@ -43,14 +43,17 @@ class Batches(NamedTuple):
 
 @njit(cache=True)
 def new_batches(n_bodies, manifolds):
+    """Room for `manifolds` manifolds in as many chunks (each in a chunk of its own at worst). `schedule`
+    writes every entry before reading it, so only the entries a tick uses are ever touched, and only their
+    pages cost memory: zeroed, the slots of a 64,000-circle pile (4 million, 94 MB) were all resident for
+    its 19,000 chunks."""
     slots = manifolds * LANES
     last = np.zeros(2, np.int64)
     last[0] = -1
-    return Batches(np.zeros(n_bodies, np.int64), np.zeros(manifolds + 1, np.int64),
-                   np.zeros(manifolds, np.int64), np.zeros(manifolds, np.int64), np.zeros(slots, np.int64),
-                   np.zeros(slots, np.int64),
-                   np.zeros(slots, np.int64), np.zeros(manifolds, np.int64), np.zeros(manifolds, np.int64),
-                   np.zeros(manifolds, np.int64), last, np.ones(1, np.bool_))
+    return Batches(np.zeros(n_bodies, np.int64), np.empty(manifolds + 1, np.int64),
+                   np.empty(manifolds, np.int64), np.empty(manifolds, np.int64), np.empty(slots, np.int64),
+                   np.empty(slots, np.int64), np.empty(slots, np.int64), np.empty(manifolds, np.int64),
+                   np.empty(manifolds, np.int64), np.empty(manifolds, np.int64), last, np.ones(1, np.bool_))
 
 
 @inlined

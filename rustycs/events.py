@@ -32,8 +32,11 @@ class Events(NamedTuple):
 
 @njit(cache=True)
 def new_events(capacity):
-    return Events(np.zeros(capacity, np.int64), np.zeros(capacity, np.int64), np.zeros(capacity, np.int64),
-                  np.zeros(capacity, np.int64), np.zeros((capacity, 2)), np.zeros(capacity),
+    """Room for `capacity` events. Rows are written before they are counted and never read past the
+    count, so the buffers are not zeroed: untouched pages cost no memory (a 64,000-circle pile's 640,000
+    rows, 34 MB, were all resident)."""
+    return Events(np.empty(capacity, np.int64), np.empty(capacity, np.int64), np.empty(capacity, np.int64),
+                  np.empty(capacity, np.int64), np.empty((capacity, 2)), np.empty(capacity),
                   np.zeros(1, np.int64))
 
 
