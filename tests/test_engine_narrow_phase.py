@@ -277,6 +277,20 @@ def test_feature_ids_are_stable_when_a_box_slides_slightly():
     assert left0 == left1
 
 
+def test_feature_ids_stay_when_the_reference_face_passes_to_the_other_box():
+    """A box resting on another, turned by a few milliradians either way: past -0.0015 rad its bottom face
+    becomes the reference instead of the lower box's top face. The points are the same corners, so their
+    ids stay (with the reference in the id, the swap dropped their impulses: S5's pile jittered)."""
+    seen = set()
+    lower = (Box(1.0, 1.0), (0, 0), 0.0)
+    for theta in np.linspace(-0.003, 0.003, 13):
+        _, points, depths, ids = collide_pair(lower, (Box(1.0, 1.0), (0.3, 0.9995), theta))
+        order = np.argsort(points[:, 0])
+        assert depths[order] == pytest.approx([0.0005 + 0.5 * theta, 0.0005 - 0.2 * theta], abs=1e-5)
+        seen.add(tuple(ids[order]))
+    assert len(seen) == 1
+
+
 # ---------------------------------------------------------------------------- box-polygon
 
 def test_box_polygon_tip_into_a_face():
