@@ -11,9 +11,9 @@ before it overlaps). Each point is placed midway between the two surfaces and ca
 polygons' clipped points are named by the vertex of each piece they come from, A's then B's, whichever
 face is the reference: two faces resting nearly parallel swap that role from tick to tick (their
 separations within `REFERENCE_TOLERANCE`), and with the reference in the id each swap dropped the
-points' impulses. In the 600 polygons of S5 such a pair lost them every other tick and kept the pile
-jittering (13 bodies a tick faster than the sleep threshold from tick 600 on; Box2D's, whose ids are
-the vertices too, none).
+points' impulses. In the 600 polygons of S5 that kept the pile jittering (from tick 600 on, 2.6 bodies a
+tick faster than the sleep threshold, 99th-percentile speed 0.033 m/s; with vertex ids none, 0.0002 m/s,
+as in Box2D, whose ids are the vertices too). The top bit orders a manifold's two points as A sees them.
 
 Chain segments collide on the side the other piece lies on (its separation is the greater there) and
 know their neighbours: a normal that a neighbouring segment should give is not given twice, and a
@@ -308,10 +308,9 @@ def collide_polygons(verts, normals, counts, centre, boxes, a, ra, b, rb, margin
             points[count, 1] = qy + shift * ny
             separations[count] = sep
             # the incident edge runs against the reference edge: its first vertex lies by the second
-            # reference vertex. The top bit orders the two points as seen from A (a flip swaps slots)
+            # reference vertex; a flip swaps the slots, so slot ^ flip orders the points as A sees them
             v_ref, v_inc = (ref2, inc) if slot == 0 else (ref, inc2)
-            vertices = (v_inc << 3) | v_ref if flip else (v_ref << 3) | v_inc
-            ids[count] = ((slot ^ flip) << 7) | vertices
+            ids[count] = ((slot ^ flip) << 7) | _vertex_pair(v_ref, v_inc, flip)
             count += 1
     if flip:
         normal[0] = -nx
@@ -355,8 +354,15 @@ def _rounded_corners(r1x, r1y, r2x, r2y, p1x, p1y, p2x, p2y, ref, ref2, inc, inc
     # a vertex pair's id: both vertices' indices, A's first, and a bit the clipped points' ids never set
     v_ref = ref if f1 == 0.0 else ref2
     v_inc = inc if f2 == 0.0 else inc2
-    ids[0] = (1 << 6) | ((v_inc << 3) | v_ref if flip else (v_ref << 3) | v_inc)
+    ids[0] = (1 << 6) | _vertex_pair(v_ref, v_inc, flip)
     return 1
+
+
+@inlined
+def _vertex_pair(v_ref, v_inc, flip):
+    """The 6 bits naming a reference and an incident vertex as A's then B's (`flip`: B holds the reference),
+    the same whichever piece's face is the reference."""
+    return (v_inc << 3) | v_ref if flip else (v_ref << 3) | v_inc
 
 
 @inlined
