@@ -235,11 +235,12 @@ def prepare_chunks(start, stop, batches, manifolds, points, radius, body, lanes)
 
 
 @inlined_early
-def store_impulses(batches, n_chunks, manifolds, lanes, points):
-    """Copy the accumulated impulses back to the point rows (the next tick's warm start)."""
+def store_impulses(batches, first, last, manifolds, lanes, points):
+    """Copy the accumulated impulses of chunks first .. last - 1 back to the point rows (the next tick's
+    warm start)."""
     fill, slot_manifold = batches.fill, batches.slot_manifold
     m_first, m_count, point = manifolds.first, manifolds.count, points.data
-    for c in range(n_chunks):
+    for c in range(first, last):
         for j in range(fill[c]):
             m = slot_manifold[c * LANES + j]
             for k in range(m_count[m]):
@@ -314,11 +315,11 @@ def _warm_start_lanes(c, lanes, gathered, points):
 
 
 @inlined_early
-def warm_start(batches, n_chunks, lanes, body):
-    """Apply the accumulated impulses again at the start of a substep."""
+def warm_start(batches, first, last, lanes, body):
+    """Apply the accumulated impulses of chunks first .. last - 1 again at the start of a substep."""
     chunk_points = batches.chunk_points
     gathered = _gathered_area()
-    for c in range(n_chunks):
+    for c in range(first, last):
         _gather(batches, c, body, lanes, gathered, False)
         if chunk_points[c] == 2:  # a compile-time point count: the lane loop has no inner loop left
             _warm_start_lanes(c, lanes, gathered, 2)
@@ -328,34 +329,37 @@ def warm_start(batches, n_chunks, lanes, body):
 
 
 @inlined_early
-def keep_free_velocities(body):
+def keep_free_velocities(body, order, first, last):
     """Before the first warm start of a tick: each body's velocity is its free velocity, what it has
     without the contacts' accumulated impulses (the warm velocity columns hold it from here on)."""
-    for i in range(body.shape[0]):
+    for k in range(first, last):
+        i = order[k]
         body[i, WARM_VX] = body[i, VX]
         body[i, WARM_VY] = body[i, VY]
         body[i, WARM_W] = body[i, W]
 
 
 @inlined_early
-def exchange_warm_velocities(body):
+def exchange_warm_velocities(body, order, first, last):
     """Turn the warm velocity columns from the free velocity into the velocity the contacts' accumulated
     impulses give (velocity less free velocity), or back. The contact passes change a body's velocity and
     its accumulated impulses alike, so its free velocity holds through them; anything else that moves a
     body (gravity, joints) moves its free velocity, and runs while the columns hold the impulses'."""
-    for i in range(body.shape[0]):
+    for k in range(first, last):
+        i = order[k]
         body[i, WARM_VX] = body[i, VX] - body[i, WARM_VX]
         body[i, WARM_VY] = body[i, VY] - body[i, WARM_VY]
         body[i, WARM_W] = body[i, W] - body[i, WARM_W]
 
 
 @inlined_early
-def warm_start_again(body):
+def warm_start_again(body, order, first, last):
     """The warm start of a substep after the first: add to each body the velocity its contacts'
     accumulated impulses give (the columns hold it: `exchange_warm_velocities`), and keep the velocity
     before as the free velocity. The same as applying every contact's impulses again (`warm_start`), to
     rounding, in one pass over the bodies instead of the contacts: S2's substep 21.7 -> 18 us."""
-    for i in range(body.shape[0]):
+    for k in range(first, last):
+        i = order[k]
         vx, vy, w = body[i, VX], body[i, VY], body[i, W]
         body[i, VX] = vx + body[i, WARM_VX]
         body[i, VY] = vy + body[i, WARM_VY]
@@ -500,10 +504,10 @@ def _solve_lanes(c, lanes, gathered, inv_h, use_bias, soft, stiff, points):
 
 
 @inlined_early
-def solve(batches, n_chunks, lanes, body, inv_h, use_bias, soft, stiff):
-    """One pass over all contacts; with `use_bias` the soft position bias pushes overlap apart, with
-    the contacts' softness (bias rate, mass and impulse scales, `softness`) for substeps of 1 / inv_h
-    seconds, `stiff` against an immovable body.
+def solve(batches, first, last, lanes, body, inv_h, use_bias, soft, stiff):
+    """One pass over the contacts of chunks first .. last - 1; with `use_bias` the soft position bias
+    pushes overlap apart, with the contacts' softness (bias rate, mass and impulse scales, `softness`)
+    for substeps of 1 / inv_h seconds, `stiff` against an immovable body.
 
     Friction is solved in the pass without bias only, after the positions moved, as Box2D v3 now does;
     that pass takes the two points of a manifold together (the 2 x 2 problem of their normal impulses,
@@ -519,7 +523,7 @@ def solve(batches, n_chunks, lanes, body, inv_h, use_bias, soft, stiff):
     together in the biased pass as well made the stacks softer (base 60: 15 cm)."""
     chunk_points = batches.chunk_points
     gathered = _gathered_area()
-    for c in range(n_chunks):
+    for c in range(first, last):
         _gather(batches, c, body, lanes, gathered, not use_bias)
         if chunk_points[c] == 2:
             _solve_lanes(c, lanes, gathered, inv_h, use_bias, soft, stiff, 2)

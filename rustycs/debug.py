@@ -69,6 +69,8 @@ class Schedule(NamedTuple):
     body_b: np.ndarray
     point_count: np.ndarray  # (M,)
     movable: np.ndarray  # (N,) bool: bodies the solver moves
+    group_chunks: np.ndarray  # (G + 1,) the first chunk of each group of islands (then the chunk count)
+    group_bodies: list[np.ndarray]  # (G,) each group's bodies (the last: those of no manifold)
 
 
 def schedule(world: World) -> Schedule:
@@ -76,14 +78,20 @@ def schedule(world: World) -> Schedule:
     ws = _workspace(world)
     m = ws.contacts.manifolds
     n_man = int(ws.contacts.count[0])
-    n_chunks = schedule_chunks(m, n_man, ws.body, ws.batches)
+    inputs = world._kernel_inputs()
+    batches = ws.batches
+    n_chunks = schedule_chunks(m, n_man, ws.body, inputs.bodies.body_type, world.joint_count > 0, batches)
+    n_groups = int(batches.last[2])
+    starts = batches.group_bodies
     fill = ws.batches.fill[:n_chunks]
     used = (np.arange(n_chunks * LANES) % LANES) < np.repeat(fill, LANES)
     slots = [np.where(used, array[: n_chunks * LANES], -1)
              for array in (ws.batches.slot_manifold, ws.batches.slot_a, ws.batches.slot_b)]
     return Schedule(n_chunks, *slots, ws.batches.chunk_points[:n_chunks].copy(), m.body_a[:n_man].copy(),
                     m.body_b[:n_man].copy(), m.count[:n_man].copy(),
-                    (ws.body[:, INV_MASS] != 0.0) | (ws.body[:, INV_INERTIA] != 0.0))
+                    (ws.body[:, INV_MASS] != 0.0) | (ws.body[:, INV_INERTIA] != 0.0),
+                    batches.group_chunks[: n_groups + 1].copy(),
+                    [batches.body_order[starts[g]:starts[g + 1]].copy() for g in range(n_groups)])
 
 
 class Manifold(NamedTuple):

@@ -45,11 +45,13 @@ def damp(body, bodies, decay):
 
 
 @inlined
-def integrate_velocities(body, bodies, forces, h):
+def integrate_velocities(body, bodies, forces, h, order, first, last):
+    """Gravity and attractors on bodies order[first:last] (a group of the solver: `contact_batches`)."""
     x, body_type, active, scale, asleep = (bodies.x, bodies.body_type, bodies.active, bodies.gravity_scale,
                                            bodies.asleep)
     gx, gy = forces.gravity[0], forces.gravity[1]
-    for i in range(x.shape[0]):
+    for k in range(first, last):
+        i = order[k]
         if body_type[i] != DYNAMIC or not active[i] or asleep[i]:
             continue
         ax, ay = attraction(x[i, 0], x[i, 1], forces)
@@ -58,10 +60,12 @@ def integrate_velocities(body, bodies, forces, h):
 
 
 @inlined
-def integrate_positions(body, bodies, h):
-    """Move bodies and keep their displacement since the narrow phase (for the contact solver)."""
+def integrate_positions(body, bodies, h, order, first, last):
+    """Move bodies order[first:last] and keep their displacement since the narrow phase (for the contact
+    solver)."""
     x, angle, body_type, active = bodies.x, bodies.angle, bodies.body_type, bodies.active
-    for i in range(x.shape[0]):
+    for k in range(first, last):
+        i = order[k]
         if body_type[i] == STATIC or not active[i]:
             continue
         dx = h * body[i, VX]

@@ -32,6 +32,7 @@ from rustycs.compiling import inlined, tick_kernel
 from rustycs.constants import SLEEP_THRESHOLD
 from rustycs.contact_solver import DX, DY, SIN
 from rustycs.narrow_phase import NORMAL_IMPULSE, NX, NY, TANGENT_IMPULSE, collide_pair
+from rustycs.union_find import find_root, join
 
 
 class Islands(NamedTuple):
@@ -45,25 +46,6 @@ class Islands(NamedTuple):
 @njit(cache=True)
 def new_islands(n_bodies):
     return Islands(np.arange(n_bodies), np.zeros(n_bodies), np.zeros(n_bodies, np.bool_))
-
-
-@inlined
-def _find(parent, i):
-    while parent[i] != i:  # path halving
-        parent[i] = parent[parent[i]]
-        i = parent[i]
-    return i
-
-
-@inlined
-def _union(parent, a, b):
-    """Join the islands of a and b under the smaller root: the roots do not depend on the order."""
-    ra = _find(parent, a)
-    rb = _find(parent, b)
-    if ra < rb:
-        parent[rb] = ra
-    elif rb < ra:
-        parent[ra] = rb
 
 
 @inlined
@@ -207,19 +189,19 @@ def fall_asleep(bodies, body, joints, contacts, sleep_time, dt, islands):
     for k in range(n_man):
         a, b = manifolds.body_a[k], manifolds.body_b[k]
         if _movable(bodies, a) and _movable(bodies, b):
-            _union(parent, a, b)
+            join(parent, a, b)
     for j in range(joints.kind.shape[0]):
         a, b = joints.body_a[j], joints.body_b[j]
         if joints.active[j] and _movable(bodies, a) and _movable(bodies, b):
-            _union(parent, a, b)
+            join(parent, a, b)
     for i in range(n):
         if _movable(bodies, i):
-            root = _find(parent, i)
+            root = find_root(parent, i)
             rest[root] = min(rest[root], bodies.sleep_time[i])
     fell = 0
     for i in range(n):
         if _movable(bodies, i):
-            root = _find(parent, i)
+            root = find_root(parent, i)
             if rest[root] >= sleep_time:
                 bodies.asleep[i] = True
                 bodies.island[i] = root

@@ -16,7 +16,6 @@ import numpy as np
 from numba import njit
 
 from rustycs.broad_phase import Pairs, fatten, find_pairs, grown_pairs, new_pairs, pairs_hold
-from rustycs.compiling import stage
 from rustycs.constants import (
     CONTACT_DAMPING_RATIO,
     CONTACT_HERTZ,
@@ -31,31 +30,22 @@ from rustycs.contact_solver import (
     BODY_COLUMNS,
     LANE_FIELDS,
     LANES,
-    exchange_warm_velocities,
-    keep_free_velocities,
     load_bodies,
     prepare,
     softness,
-    solve,
     store_bodies,
     store_impulses,
-    warm_start,
-    warm_start_again,
 )
 from rustycs.continuous import HoldBack, hold_back_passes, new_hold_back
 from rustycs.events import JOINT_BREAK, Events, grown_events, new_events, record_event
 from rustycs.geometry import Geometry, new_geometry, update_geometry
 from rustycs.impacts import BEFORE_COLUMNS, keep_velocities, may_bounce, resolve_impacts
 from rustycs.joint_solver import (
-    RELAX,
-    SOLVE,
-    WARM,
     JointWork,
     anchor_point,
     break_joints,
     breakable,
     joint_reactions,
-    joints_pass,
     new_joint_work,
     prepare_block,
     prepare_joints,
@@ -65,8 +55,6 @@ from rustycs.motion import (
     damp,
     damping_factors,
     first_non_finite,
-    integrate_positions,
-    integrate_velocities,
 )
 from rustycs.narrow_phase import Contacts, narrow_phase, new_contacts, no_sleeping_points
 from rustycs.recording import record_frame
@@ -80,6 +68,7 @@ from rustycs.sleep import (
     warm_from_sleep,
 )
 from rustycs.stepper import ESCAPED_TOTAL, TICK, borrowed
+from rustycs.substeps import substeps
 from rustycs.threads import (
     BODY_PART,
     CHUNK_PART,
@@ -89,6 +78,7 @@ from rustycs.threads import (
     new_thread_scratch,
     place_bodies_in_parts,
     prepare_in_parts,
+    substeps_in_groups,
 )
 
 
@@ -170,38 +160,6 @@ def grown(ws, n_bodies, cells, pairs, points, chunks, events):
         lanes = np.empty(2 * chunks * LANES * LANE_FIELDS)
     return Workspace(ws.geometry, p, contacts, cache, ws.body, batches, lanes, ws.decay, ws.bounce_velocity,
                      ws.held_back, ws.joint_work, kept, ws.statics_placed, touching, ws.islands, threads)
-
-
-@stage
-def substeps(batches, n_chunks, lanes, body, bodies, joints, joint_work, joint_soft, forces, h, count, soft,
-             stiff):
-    """The solver's substeps: integrate velocities, warm start, solve with the soft bias, integrate
-    positions, relax (the joints before the contacts in each pass), the contacts with softness `soft`,
-    `stiff` against an immovable body. One compiled call with every pass inlined: a call per pass cost a
-    quarter of the tick of a five-body scene."""
-    jointed = joints.kind.shape[0] > 0  # a call with the records costs a tenth of a five-body tick
-    for substep in range(count):
-        if substep > 0:
-            exchange_warm_velocities(body)
-        integrate_velocities(body, bodies, forces, h)
-        if jointed:
-            joints_pass(WARM, bodies, body, joints, joint_work, joint_soft, h)
-        if substep == 0:
-            keep_free_velocities(body)
-            warm_start(batches, n_chunks, lanes, body)
-        else:
-            warm_start_again(body)
-        if jointed:
-            exchange_warm_velocities(body)
-            joints_pass(SOLVE, bodies, body, joints, joint_work, joint_soft, h)
-            exchange_warm_velocities(body)
-        solve(batches, n_chunks, lanes, body, 1.0 / h, True, soft, stiff)
-        integrate_positions(body, bodies, h)
-        if jointed:
-            exchange_warm_velocities(body)
-            joints_pass(RELAX, bodies, body, joints, joint_work, joint_soft, h)
-            exchange_warm_velocities(body)
-        solve(batches, n_chunks, lanes, body, 1.0 / h, False, soft, stiff)
 
 
 # entries of a block's status (`step_world`): ticks done, frames recorded, bodies that left the bounds,
@@ -329,7 +287,7 @@ def step_world(stepper, n_ticks, every):
             if damped:
                 damp(body, bodies, decay)
             prepare_joints(bodies, joints, tick, joint_work)
-            n_chunks = schedule(contacts.manifolds, n_man, body, batches)
+            n_chunks = schedule(contacts.manifolds, n_man, body, bodies.body_type, jointed, batches)
             if n_chunks * LANES * LANE_FIELDS > lanes.shape[0]:
                 status[NEED_CHUNKS] = n_chunks
                 continue
@@ -343,9 +301,12 @@ def step_world(stepper, n_ticks, every):
                                                 settings.restitution_threshold)
             if bounces:
                 keep_velocities(body, bounce_velocity)
-            substeps(batches, n_chunks, lanes, body, bodies, joints, joint_work, joint_soft, forces, h,
-                     settings.substeps, soft, stiff)
-            store_impulses(batches, n_chunks, contacts.manifolds, lanes, contacts.points)
+            if threaded and batches.last[2] > 1:  # the groups side by side, each storing its impulses
+                substeps_in_groups(stepper, joint_soft, h, settings.substeps, soft, stiff)
+            else:
+                substeps(batches, lanes, body, bodies, joints, joint_work, joint_soft, forces, h,
+                         settings.substeps, soft, stiff)
+                store_impulses(batches, 0, n_chunks, contacts.manifolds, lanes, contacts.points)
             if bounces:
                 resolve_impacts(batches, n_chunks, lanes, body, bounce_velocity,
                                 settings.restitution_threshold)

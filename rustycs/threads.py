@@ -3,10 +3,11 @@
 A world stepped with `threads` > 1 places its bodies' shapes, collides its candidate pairs and fills its
 contacts' solver lanes in parts of a fixed size (not a share per thread): each part computes its
 elements from their own inputs alone, into rows of its own, and the parts are joined in order. So the
-result is bitwise that of one thread, for any thread count. The broad phase, the solver's passes (each
-body meets its contacts in a fixed order, a chain through the whole pile) and the rest of the tick stay
-on the calling thread. numba's parallel loops (`prange`) run the parts; a world with fewer than two parts
-of a stage runs it on one thread, as waking the threads costs more than the work.
+result is bitwise that of one thread, for any thread count. The solver's substeps run group by group of
+islands (`substeps`), the groups side by side; within an island each body meets its contacts in a fixed
+order, a chain through the whole pile, so one island runs on one thread. The broad phase and the rest of
+the tick stay on the calling thread. numba's parallel loops (`prange`) run the parts; a world with fewer
+than two parts of a stage runs it on one thread, as waking the threads costs more than the work.
 """
 
 from __future__ import annotations
@@ -17,12 +18,13 @@ import numpy as np
 from numba import get_thread_id, njit, prange
 
 from rustycs.compiling import inlined, parallel_kernel
-from rustycs.contact_solver import prepare_chunks
+from rustycs.contact_solver import prepare_chunks, store_impulses
 from rustycs.geometry import Geometry, place_bodies
 from rustycs.manifold import Collision
 from rustycs.narrow_phase import collide_pairs
 from rustycs.pieces import MAX_VERTICES
 from rustycs.stepper import borrowed
+from rustycs.substeps import group_substeps
 from rustycs.time_of_impact import Sweep
 
 BODY_PART = 64  # bodies placed by one part
@@ -180,3 +182,23 @@ def _prepare_part(stepper, p, n_chunks):
     ws.threads.bouncy[p] = prepare_chunks(p * CHUNK_PART, min(n_chunks, (p + 1) * CHUNK_PART), ws.batches,
                                           ws.contacts.manifolds, ws.contacts.points, world.shapes.radius,
                                           ws.body, ws.lanes)
+
+
+@parallel_kernel
+def substeps_in_groups(stepper, joint_soft, h, count, soft, stiff):
+    """`substeps.substeps` of the stepper's world, its groups of islands side by side, each group then
+    storing its contacts' impulses (`contact_solver.store_impulses`)."""
+    n_groups = borrowed(stepper).workspace.batches.last[2]
+    for g in prange(n_groups):
+        _group_part(stepper, g, joint_soft, h, count, soft, stiff)
+
+
+@inlined
+def _group_part(stepper, g, joint_soft, h, count, soft, stiff):
+    world = borrowed(stepper)
+    ws = world.workspace
+    batches = ws.batches
+    group_substeps(g, batches, ws.lanes, ws.body, world.bodies, world.joints, ws.joint_work, joint_soft,
+                   world.forces, h, count, soft, stiff)
+    store_impulses(batches, batches.group_chunks[g], batches.group_chunks[g + 1], ws.contacts.manifolds,
+                   ws.lanes, ws.contacts.points)

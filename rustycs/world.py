@@ -146,8 +146,9 @@ class World(BodyControl, WorldQueries, WorldScenario):
     @property
     def threads(self) -> int:
         """Threads inside the world: with more than one, the stages that split by element (placing shapes,
-        colliding pairs, filling the solver's lanes) run in parts over up to this many threads, with a
-        bitwise equal result for any count (`rustycs.threads`); at most numba's thread count is used."""
+        colliding pairs, filling the solver's lanes, the substeps of separate groups of islands) run in
+        parts over up to this many threads, with a bitwise equal result for any count (`rustycs.threads`);
+        at most numba's thread count is used."""
         return self._threads
 
     @threads.setter
