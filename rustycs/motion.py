@@ -12,7 +12,7 @@ import math
 
 from rustycs.body_types import DYNAMIC, STATIC
 from rustycs.compiling import inlined
-from rustycs.contact_solver import COS, DX, DY, SIN, VX, VY, W
+from rustycs.contact_solver import COS, DX, DY, SIN, VX, VY, W, group_body
 from rustycs.events import ESCAPE, record_event
 from rustycs.forces import attraction
 from rustycs.sleep import wake_island
@@ -45,13 +45,13 @@ def damp(body, bodies, decay):
 
 
 @inlined
-def integrate_velocities(body, bodies, forces, h, order, first, last):
-    """Gravity and attractors on bodies order[first:last] (a group of the solver: `contact_batches`)."""
+def integrate_velocities(body, bodies, forces, h, order, first, last, direct):
+    """Gravity and attractors on bodies first .. last - 1 of a group of the solver (`group_body`)."""
     x, body_type, active, scale, asleep = (bodies.x, bodies.body_type, bodies.active, bodies.gravity_scale,
                                            bodies.asleep)
     gx, gy = forces.gravity[0], forces.gravity[1]
     for k in range(first, last):
-        i = order[k]
+        i = group_body(order, k, direct)
         if body_type[i] != DYNAMIC or not active[i] or asleep[i]:
             continue
         ax, ay = attraction(x[i, 0], x[i, 1], forces)
@@ -60,12 +60,12 @@ def integrate_velocities(body, bodies, forces, h, order, first, last):
 
 
 @inlined
-def integrate_positions(body, bodies, h, order, first, last):
-    """Move bodies order[first:last] and keep their displacement since the narrow phase (for the contact
-    solver)."""
+def integrate_positions(body, bodies, h, order, first, last, direct):
+    """Move bodies first .. last - 1 of a group of the solver (`group_body`) and keep their displacement
+    since the narrow phase (for the contact solver)."""
     x, angle, body_type, active = bodies.x, bodies.angle, bodies.body_type, bodies.active
     for k in range(first, last):
-        i = order[k]
+        i = group_body(order, k, direct)
         if body_type[i] == STATIC or not active[i]:
             continue
         dx = h * body[i, VX]

@@ -199,6 +199,6 @@ def _group_part(stepper, g, joint_soft, h, count, soft, stiff):
     ws = world.workspace
     batches = ws.batches
     group_substeps(g, batches, ws.lanes, ws.body, world.bodies, world.joints, ws.joint_work, joint_soft,
-                   world.forces, h, count, soft, stiff)
+                   world.forces, h, count, soft, stiff, False)
     store_impulses(batches, batches.group_chunks[g], batches.group_chunks[g + 1], ws.contacts.manifolds,
                    ws.lanes, ws.contacts.points)
