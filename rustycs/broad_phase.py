@@ -80,6 +80,13 @@ def hitboxes_overlap(hitbox, i, j):
             and hitbox[i, 1] <= hitbox[j, 3] and hitbox[j, 1] <= hitbox[i, 3])
 
 
+@inlined
+def hitbox_gap(hitbox, i, j):
+    """The widest gap between hitboxes i and j along x or y: at most the distance of the boxes."""
+    return max(hitbox[j, 0] - hitbox[i, 2], hitbox[i, 0] - hitbox[j, 2], hitbox[j, 1] - hitbox[i, 3],
+               hitbox[i, 1] - hitbox[j, 3])
+
+
 @njit(cache=True)
 def _cell(value, origin, inv_cell, count):
     """Grid index of a coordinate, clamped in floating point so that far bodies cannot overflow."""

@@ -57,6 +57,13 @@ def pairs(world: World) -> np.ndarray:
     return np.stack([keys >> SHAPE_BITS, keys & SHAPE_MASK], axis=1)
 
 
+def clearance(world: World) -> np.ndarray:
+    """(P,) for each of `pairs`, the last tick's lower bound on the gap of its surfaces that continuous
+    collision compares with its bodies' travel (inf: the solver's points held the pair; 0: none known)."""
+    ws = _workspace(world)
+    return ws.contacts.clearance[: ws.pairs.count[0]].copy()
+
+
 class Schedule(NamedTuple):
     """How the last tick's manifolds were placed in the solver's chunks of LANES slots."""
 

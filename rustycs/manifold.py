@@ -46,21 +46,25 @@ class Collision(NamedTuple):
     points: np.ndarray  # (2, 2) world points midway between the surfaces
     separations: np.ndarray  # (2,) m, negative where the pieces overlap
     ids: np.ndarray  # (2,) int64 feature ids
+    # (1,) m: with no points, a lower bound on the gap of the surfaces (a separating axis's separation, or
+    # the distance), which continuous collision compares with the bodies' travel; 0 where none is known
+    apart: np.ndarray
 
 
 @njit(cache=True)
 def new_collision():
-    return Collision(np.zeros(2), np.zeros((2, 2)), np.zeros(2), np.zeros(2, np.int64))
+    return Collision(np.zeros(2), np.zeros((2, 2)), np.zeros(2), np.zeros(2, np.int64), np.zeros(1))
 
 
 @inlined
 def collide_circles(xa, ya, ra, xb, yb, rb, margin, out):
-    normal, points, separations, ids = out  # unpacked once: a field read per use costs
+    normal, points, separations, ids, apart = out  # unpacked once: a field read per use costs
     dx = xb - xa
     dy = yb - ya
     dist = math.sqrt(dx * dx + dy * dy)
     sep = dist - ra - rb
     if sep > margin:
+        apart[0] = sep
         return 0
     if dist > 1e-12:
         nx = dx / dist
@@ -81,7 +85,7 @@ def collide_circles(xa, ya, ra, xb, yb, rb, margin, out):
 @inlined
 def collide_polygon_circle(verts, normals, counts, i, rp, cx, cy, r, margin, out):
     """Piece i (radius rp) against a circle; the normal points from the piece to the circle."""
-    normal, points, separations, ids = out  # unpacked once: a field read per use costs
+    normal, points, separations, ids, apart = out  # unpacked once: a field read per use costs
     count = counts[i]
     best = -math.inf
     edge = 0
@@ -91,6 +95,7 @@ def collide_polygon_circle(verts, normals, counts, i, rp, cx, cy, r, margin, out
             best = s
             edge = k
     if best - r - rp > margin:
+        apart[0] = best - r - rp
         return 0
     k2 = edge + 1 if edge + 1 < count else 0
     v1x, v1y = verts[i, edge, 0], verts[i, edge, 1]
@@ -105,6 +110,7 @@ def collide_polygon_circle(verts, normals, counts, i, rp, cx, cy, r, margin, out
         dist = math.sqrt(dx * dx + dy * dy)
         sep = dist - r - rp
         if sep > margin:
+            apart[0] = sep
             return 0
         nx = dx / dist
         ny = dy / dist
@@ -199,7 +205,7 @@ def _clip_edges(r1x, r1y, r2x, r2y, nx, ny, p1x, p1y, p2x, p2y, r_ref, r_inc, ma
     reference edge r1 -> r2's side planes, and keep the points within `margin` of the reference
     surface; the normal is the reference's outward n, reversed when `flip`. Point ids are
     base | slot."""
-    normal, points, separations, ids = out  # unpacked once: a field read per use costs
+    normal, points, separations, ids, apart = out  # unpacked once: a field read per use costs
     # the reference edge's direction: its outward normal turned a quarter back (counter-clockwise winding)
     tx = -ny
     ty = nx
@@ -242,20 +248,24 @@ def _clip_edges(r1x, r1y, r2x, r2y, nx, ny, p1x, p1y, p2x, p2y, r_ref, r_inc, ma
 @inlined
 def collide_polygons(verts, normals, counts, centre, boxes, a, ra, b, rb, margin, out):
     """Pieces a and b with radii ra and rb (with `boxes`, two boxes); the normal points from a to b."""
-    normal, points, separations, ids = out  # unpacked once: a field read per use costs
+    normal, points, separations, ids, apart = out  # unpacked once: a field read per use costs
     radius = ra + rb
     if boxes:
         ha0, ha1 = _box_axes(verts, normals, centre, a)
         hb0, hb1 = _box_axes(verts, normals, centre, b)
         edge_a, sep_a = _box_max_separation(normals, centre, a, ha0, ha1, b, hb0, hb1)
         if sep_a - radius > margin:
+            apart[0] = sep_a - radius
             return 0
         edge_b, sep_b = _box_max_separation(normals, centre, b, hb0, hb1, a, ha0, ha1)
     else:
         edge_a, sep_a = _max_separation(verts, normals, counts, a, b)
         if sep_a - radius > margin:
+            apart[0] = sep_a - radius
             return 0
         edge_b, sep_b = _max_separation(verts, normals, counts, b, a)
+    # an axis's separation is at most the distance: a bound for the pair whether or not it has points
+    apart[0] = max(sep_a, sep_b) - radius
     if sep_b - radius > margin:
         return 0
     if sep_b > sep_a + REFERENCE_TOLERANCE:
@@ -332,7 +342,7 @@ def _rounded_corners(r1x, r1y, r2x, r2y, p1x, p1y, p2x, p2y, ref, ref2, inc, inc
     below; then one point between those vertices replaces the clipped ones. (Not for sharp pieces: the
     vertices' distance cost 7 % of the 600-polygon scene's narrow phase; and a call of its own, so that
     the common pairs' loop stays small.)"""
-    normal, points, separations, ids = out  # unpacked once: a field read per use costs
+    normal, points, separations, ids, apart = out  # unpacked once: a field read per use costs
     radius = r_ref + r_inc
     f1, f2, gap2 = _segment_distance(r1x, r1y, r2x, r2y, p1x, p1y, p2x, p2y)
     gap = math.sqrt(gap2)
@@ -371,13 +381,14 @@ def collide_capsules(verts, a, ra, b, rb, margin, out):
     alone miss the ends, so the closest points of the segments decide. Where their projections overlap,
     the reference segment's face (the side of greater separation) clips the other to two points, as a
     capsule resting on another needs; otherwise one point between the closest points."""
-    normal, points, separations, ids = out  # unpacked once: a field read per use costs
+    normal, points, separations, ids, apart = out  # unpacked once: a field read per use costs
     p1x, p1y, q1x, q1y = verts[a, 0, 0], verts[a, 0, 1], verts[a, 1, 0], verts[a, 1, 1]
     p2x, p2y, q2x, q2y = verts[b, 0, 0], verts[b, 0, 1], verts[b, 1, 0], verts[b, 1, 1]
     radius = ra + rb
     f1, f2, gap2 = _segment_distance(p1x, p1y, q1x, q1y, p2x, p2y, q2x, q2y)
     gap = math.sqrt(gap2)
     if gap - radius > margin:
+        apart[0] = gap - radius
         return 0
     count = 0
     for flip in range(2):  # each segment as the reference in turn, the first whose face clips wins
@@ -495,7 +506,7 @@ def collide_chain_circle(verts, normals, ghosts, open_ends, c, cx, cy, r, margin
     """Chain segment c against a circle; the normal points from the segment to the circle. The joint
     with the previous segment belongs to that segment, and a centre over the next segment's face is
     the next segment's."""
-    normal, points, separations, ids = out  # unpacked once: a field read per use costs
+    normal, points, separations, ids, apart = out  # unpacked once: a field read per use costs
     offset = normals[c, 0, 0] * (cx - verts[c, 0, 0]) + normals[c, 0, 1] * (cy - verts[c, 0, 1])
     flip = 1 if offset < 0.0 else 0
     p1x, p1y, p2x, p2y, _, _, g2x, g2y, ends, fnx, fny = _chain_side(verts, normals, ghosts, open_ends, c,

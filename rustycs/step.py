@@ -316,7 +316,7 @@ def step_world(stepper, n_ticks, every):
             contact_events(contacts.manifolds, n_man, contacts.points, bodies, tick, touching, events)
         if not still:
             store_bodies(body, bodies)
-            hold_back_passes(pairs.keys, n_pairs, contacts.paired, bodies, shapes, geometry, body, dt,
+            hold_back_passes(pairs.keys, n_pairs, contacts.clearance, bodies, shapes, geometry, body, dt,
                              SPECULATIVE_DISTANCE, contacts.sweep, held_back)
         remember(contacts.points, n_pts, cache)
         if settings.sleep and not still:

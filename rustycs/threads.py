@@ -42,6 +42,7 @@ class ThreadScratch(NamedTuple):
     points: np.ndarray  # (T, 2, 2)
     separations: np.ndarray  # (T, 2)
     ids: np.ndarray  # (T, 2) int64
+    apart: np.ndarray  # (T, 1)
     kind: np.ndarray  # (T, 2) int64
     radius: np.ndarray  # (T, 2)
     count: np.ndarray  # (T, 2) int64
@@ -62,17 +63,19 @@ def new_thread_scratch(threads, pairs):
     """Scratch for `threads` threads colliding up to `pairs` candidate pairs."""
     t = threads
     return ThreadScratch(np.zeros((t, 2)), np.zeros((t, 2, 2)), np.zeros((t, 2)), np.zeros((t, 2), np.int64),
-                         np.zeros((t, 2), np.int64), np.zeros((t, 2)), np.zeros((t, 2), np.int64),
-                         np.zeros((t, 2), np.int64), np.zeros((t, 2, MAX_VERTICES, 2)),
-                         np.zeros((t, 2, MAX_VERTICES, 2)), np.zeros((t, 2, 2)), np.zeros((t, 2, 2, 2)),
-                         np.zeros((t, 2, 4)), np.zeros((t, 2)), np.zeros((t, 2, 2)),
+                         np.zeros((t, 1)), np.zeros((t, 2), np.int64), np.zeros((t, 2)),
+                         np.zeros((t, 2), np.int64), np.zeros((t, 2), np.int64),
+                         np.zeros((t, 2, MAX_VERTICES, 2)), np.zeros((t, 2, MAX_VERTICES, 2)),
+                         np.zeros((t, 2, 2)), np.zeros((t, 2, 2, 2)), np.zeros((t, 2, 4)), np.zeros((t, 2)),
+                         np.zeros((t, 2, 2)),
                          np.zeros((pairs // PAIR_PART + 1, 2), np.int64),
                          np.zeros(pairs // CHUNK_PART + 1, np.int64))
 
 
 @inlined
 def _collision_of(scratch, t):
-    return Collision(scratch.normal[t], scratch.points[t], scratch.separations[t], scratch.ids[t])
+    return Collision(scratch.normal[t], scratch.points[t], scratch.separations[t], scratch.ids[t],
+                     scratch.apart[t])
 
 
 @inlined
