@@ -2,7 +2,9 @@
 
 The pairs are found for fat hitboxes (each hitbox grown by `FAT_MARGIN`) and kept while every shape's
 hitbox stays inside its fat one and no body is switched on or off: a resting pile then needs no
-broad phase at all, as in Box2D's tree of fat boxes. A pair of fat boxes that do not touch as hitboxes
+broad phase at all, as in Box2D's tree of fat boxes. When a few shapes leave their fat hitboxes, only
+theirs are found again, through the last search's grid (`refresh_pairs`), as Box2D's tree moves only
+the proxies that left their boxes. A pair of fat boxes that do not touch as hitboxes
 gives no contact in the narrow phase, so the contacts are those of the hitboxes' pairs, bit for bit.
 
 The grid covers the hitboxes of the shapes of dynamic bodies only and its cell size follows their
@@ -23,7 +25,7 @@ import numpy as np
 from numba import njit
 
 from rustycs.compiling import inlined, tick_kernel
-from rustycs.constants import FAT_MARGIN
+from rustycs.constants import FAT_MARGIN, MOST_DISPLACED
 from rustycs.sorting import sort_run
 
 
@@ -38,6 +40,15 @@ class Pairs(NamedTuple):
     extents: np.ndarray  # (S,) scratch
     cells: np.ndarray  # int64 scratch: the grid's cell entries
     inert: np.ndarray  # bool (1,): no two shapes may ever touch (`never_collide`): no pairs, ever
+    # the last search's grid, kept with the cell ranges and cell entries in `grid` and `cells`
+    frame: np.ndarray  # (5,) its domain's lower x, y, upper x, y, and 1 / cell size
+    layout: np.ndarray  # int64 (3,): cells along x (0: no grid), along y, shapes displaced since the search
+    stale: np.ndarray  # int8 (S,): IN_GRID, DISPLACED (its grid entries stale) or MOVED (in this refresh)
+    displaced: np.ndarray  # int64 (S,): the displaced shapes, by their fat hitboxes' lower x
+    found: np.ndarray  # int64 scratch: the keys of a refresh's new pairs
+
+
+IN_GRID, DISPLACED, MOVED = 0, 1, 2  # of `Pairs.stale`
 
 
 @njit(cache=True)
@@ -62,7 +73,15 @@ def new_pairs(shapes, capacity):
     inert = np.full(1, never_collide(shapes), np.bool_)
     count = np.full(1, 0 if inert[0] else -1, np.int64)
     return Pairs(np.empty(capacity, np.int64), count, np.full((n, 4), np.nan), np.zeros(n, np.bool_),
-                 np.empty(grid_scratch_size(n), np.int64), np.empty(n), np.empty(capacity, np.int64), inert)
+                 np.empty(grid_scratch_size(n), np.int64), np.empty(n), np.empty(capacity, np.int64), inert,
+                 np.zeros(5), np.zeros(3, np.int64), np.zeros(n, np.int8), np.empty(n, np.int64),
+                 np.empty(_found_size(capacity), np.int64))
+
+
+@njit(cache=True)
+def _found_size(capacity):
+    """Room for a refresh's new pairs, with room for `capacity` pairs in all (more: a whole search)."""
+    return capacity // 2 + 64
 
 
 @njit(cache=True)
@@ -71,7 +90,8 @@ def grown_pairs(pairs, capacity, cells):
     keys = np.empty(max(2 * capacity, pairs.keys.shape[0]), np.int64)
     entries = np.empty(max(2 * cells, pairs.cells.shape[0]), np.int64)
     return Pairs(keys, pairs.count, pairs.fat_hitbox, pairs.fat_active, pairs.grid, pairs.extents, entries,
-                 pairs.inert)
+                 pairs.inert, pairs.frame, pairs.layout, pairs.stale, pairs.displaced,
+                 np.empty(_found_size(keys.shape[0]), np.int64))
 
 
 @inlined
@@ -202,7 +222,12 @@ def find_pairs(bodies, shapes, joints, joint_filter, pairs):
     """
     hitbox, grid, extents, cells, keys = pairs.fat_hitbox, pairs.grid, pairs.extents, pairs.cells, pairs.keys
     inv_mass, active, body = bodies.inv_mass, bodies.active, shapes.body
+    layout, stale, displaced = pairs.layout, pairs.stale, pairs.displaced
     n = hitbox.shape[0]
+    for k in range(layout[2]):  # every shape in the grid about to be made
+        stale[displaced[k]] = IN_GRID
+    layout[0] = 0  # no grid to refresh until this one is whole
+    layout[2] = 0
     dynamic = grid[:n]
     nd = 0
     for i in range(n):
@@ -228,6 +253,14 @@ def find_pairs(bodies, shapes, joints, joint_filter, pairs):
         return 0, 0  # a non-finite state: the step reports it
     # the cell size only decides speed, never which pairs are found
     cell = max(_select(extents[:nd], nd // 2), 1e-9)
+    # a cell more on every side: dynamic shapes that leave their fat hitboxes stay in the domain a while,
+    # where a refresh finds their pairs in this grid (the fixed shapes by the domain are in it)
+    lo_x -= cell
+    lo_y -= cell
+    hi_x += cell
+    hi_y += cell
+    width = hi_x - lo_x
+    height = hi_y - lo_y
     max_cells = 4.0 * nd + 16.0
     while (width / cell + 1.0) * (height / cell + 1.0) > max_cells:
         cell *= 1.5
@@ -275,6 +308,10 @@ def find_pairs(bodies, shapes, joints, joint_filter, pairs):
                 c = cy * nx + cx
                 cells[fill[c]] = i
                 fill[c] += 1
+    frame = pairs.frame
+    frame[0], frame[1], frame[2], frame[3], frame[4] = lo_x, lo_y, hi_x, hi_y, inv_cell
+    layout[0] = nx
+    layout[1] = ny
 
     # each body's partners of higher index, sorted as a run of their own: the keys come out sorted by
     # (a, b) with no sort of the whole list
@@ -303,3 +340,149 @@ def find_pairs(bodies, shapes, joints, joint_filter, pairs):
                     count += 1
         sort_run(keys, first, min(count, keys.shape[0]))
     return count, entries
+
+
+@inlined
+def _inside(fat, hitbox, j):
+    """Whether hitbox j lies inside fat hitbox j."""
+    return (fat[j, 0] <= hitbox[j, 0] and fat[j, 1] <= hitbox[j, 1] and hitbox[j, 2] <= fat[j, 2]
+            and hitbox[j, 3] <= fat[j, 3])
+
+
+@inlined
+def _cell_range(fat, i, frame, nx, ny, ranges):
+    """Write shape i's range of grid cells (x0, y0, x1, y1) for its fat hitbox, or x0 = -1 where the
+    hitbox misses the grid's domain (or is not finite)."""
+    lo_x, lo_y, hi_x, hi_y, inv_cell = frame[0], frame[1], frame[2], frame[3], frame[4]
+    ranges[4 * i] = -1
+    if not (fat[i, 2] >= lo_x and fat[i, 0] <= hi_x and fat[i, 3] >= lo_y and fat[i, 1] <= hi_y):
+        return
+    ranges[4 * i] = _cell(fat[i, 0], lo_x, inv_cell, nx)
+    ranges[4 * i + 1] = _cell(fat[i, 1], lo_y, inv_cell, ny)
+    ranges[4 * i + 2] = _cell(fat[i, 2], lo_x, inv_cell, nx)
+    ranges[4 * i + 3] = _cell(fat[i, 3], lo_y, inv_cell, ny)
+
+
+@tick_kernel
+def refresh_pairs(bodies, shapes, joints, joint_filter, geometry, pairs):
+    """Find again only the pairs of the shapes whose hitboxes left their fat ones, when they are few:
+    returns False where the whole search (`fatten`, `find_pairs`) is needed instead. Those shapes get new
+    fat hitboxes and are displaced: their entries in the last search's grid are stale, so each finds its
+    partners among the shapes still in the grid through the cells of its new fat hitbox, and among the
+    displaced ones by a sweep along x; their old pairs are dropped and the new ones merged in, sorted.
+    The pairs are then those of the fat hitboxes, as a whole search finds them. A whole search is needed
+    when the pairs are to be found, a body was switched on or off, a dynamic shape left the grid's
+    domain, more than `MOST_DISPLACED` of the shapes would be displaced, or a buffer is too small."""
+    hitbox, fat, fat_active, stale, displaced = (geometry.hitbox, pairs.fat_hitbox, pairs.fat_active,
+                                                 pairs.stale, pairs.displaced)
+    layout, frame, grid, cells, keys, found = (pairs.layout, pairs.frame, pairs.grid, pairs.cells,
+                                               pairs.keys, pairs.found)
+    active, first, count, asleep, inv_mass = (bodies.active, bodies.first_shape, bodies.shape_count,
+                                              bodies.asleep, bodies.inv_mass)
+    n = fat.shape[0]
+    if pairs.count[0] < 0:
+        return False
+    limit = int(MOST_DISPLACED * n) + 16
+    n_displaced = layout[2]
+    for i in range(active.shape[0]):
+        on = active[i]
+        for j in range(first[i], first[i] + count[i]):
+            if on != fat_active[j]:
+                layout[2] = n_displaced
+                return False
+            if on and not asleep[i] and not _inside(fat, hitbox, j):
+                if stale[j] == 0:
+                    if n_displaced == limit:
+                        layout[2] = n_displaced
+                        return False
+                    displaced[n_displaced] = j
+                    n_displaced += 1
+                stale[j] = MOVED
+    layout[2] = n_displaced
+    nx, ny = layout[0], layout[1]
+    ranges = grid[n:5 * n]
+    for k in range(n_displaced):
+        j = displaced[k]
+        if stale[j] != MOVED:
+            continue
+        fat[j, 0] = hitbox[j, 0] - FAT_MARGIN
+        fat[j, 1] = hitbox[j, 1] - FAT_MARGIN
+        fat[j, 2] = hitbox[j, 2] + FAT_MARGIN
+        fat[j, 3] = hitbox[j, 3] + FAT_MARGIN
+        if inv_mass[shapes.body[j]] > 0.0 and not (frame[0] <= fat[j, 0] and fat[j, 2] <= frame[2]
+                                                   and frame[1] <= fat[j, 1] and fat[j, 3] <= frame[3]):
+            return False  # a dynamic shape beyond the domain could meet a fixed one the grid left out
+        _cell_range(fat, j, frame, nx, ny, ranges)
+    # the displaced in order of their fat hitboxes' lower x (by insertion: nearly in order already)
+    for k in range(1, n_displaced):
+        j = displaced[k]
+        q = k
+        while q > 0 and fat[displaced[q - 1], 0] > fat[j, 0]:
+            displaced[q] = displaced[q - 1]
+            q -= 1
+        displaced[q] = j
+    kept = 0
+    for k in range(pairs.count[0]):
+        a = keys[k] >> SHAPE_BITS
+        b = keys[k] & SHAPE_MASK
+        if stale[a] != MOVED and stale[b] != MOVED:
+            keys[kept] = keys[k]
+            kept += 1
+    n_found = 0
+    starts = grid[5 * n:5 * n + nx * ny + 1]
+    for k in range(n_displaced):
+        i = displaced[k]
+        if stale[i] != MOVED or ranges[4 * i] < 0:
+            continue
+        for cy in range(ranges[4 * i + 1], ranges[4 * i + 3] + 1):
+            for cx in range(ranges[4 * i], ranges[4 * i + 2] + 1):
+                c = cy * nx + cx
+                for p in range(starts[c], starts[c + 1]):
+                    j = cells[p]
+                    if stale[j] != IN_GRID:
+                        continue  # displaced: found by the sweep below
+                    # once: in the cell of the intersection's lower corner
+                    if (max(ranges[4 * i], ranges[4 * j]) != cx
+                            or max(ranges[4 * i + 1], ranges[4 * j + 1]) != cy):
+                        continue
+                    if not hitboxes_overlap(fat, i, j):
+                        continue
+                    if not may_collide(shapes, bodies, joints, joint_filter, i, j):
+                        continue
+                    if n_found == found.shape[0]:
+                        return False
+                    found[n_found] = (min(i, j) << SHAPE_BITS) | max(i, j)
+                    n_found += 1
+    for k in range(n_displaced):
+        i = displaced[k]
+        for q in range(k + 1, n_displaced):
+            j = displaced[q]
+            if fat[j, 0] > fat[i, 2]:
+                break
+            if stale[i] != MOVED and stale[j] != MOVED:
+                continue  # kept from before
+            if not hitboxes_overlap(fat, i, j) or not may_collide(shapes, bodies, joints, joint_filter, i, j):
+                continue
+            if n_found == found.shape[0]:
+                return False
+            found[n_found] = (min(i, j) << SHAPE_BITS) | max(i, j)
+            n_found += 1
+    total = kept + n_found
+    if total > keys.shape[0]:
+        return False
+    sort_run(found, 0, n_found)
+    a = kept - 1
+    b = n_found - 1
+    for w in range(total - 1, -1, -1):  # merged from the back, in place
+        if b < 0:
+            break
+        if a >= 0 and keys[a] > found[b]:
+            keys[w] = keys[a]
+            a -= 1
+        else:
+            keys[w] = found[b]
+            b -= 1
+    pairs.count[0] = total
+    for k in range(n_displaced):
+        stale[displaced[k]] = DISPLACED
+    return True

@@ -10,6 +10,8 @@ LINEAR_SLOP = 0.005  # m: overlap the solver leaves alone, so resting contacts d
 SPECULATIVE_DISTANCE = 4.0 * LINEAR_SLOP  # m: contact points are kept this far apart (Box2D)
 REFERENCE_TOLERANCE = 0.1 * LINEAR_SLOP  # m: face B must beat face A by this to become the reference (Box2D)
 FAT_MARGIN = 0.1  # m: how far a hitbox may move before its pairs are found again (0.05, 0.2: slower)
+# share of the shapes that may leave their fat hitboxes, found again alone, before a whole search
+MOST_DISPLACED = 0.25
 CONTACT_HERTZ = 60.0  # Hz: stiffness of the soft contact, capped at a quarter of the substep rate (Box2D: 30)
 CONTACT_DAMPING_RATIO = 10.0  # of the soft contact (Box2D)
 # a rigid joint's position correction is as stiff as the soft step keeps stable: a quarter of the substep rate

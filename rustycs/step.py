@@ -15,7 +15,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from rustycs.broad_phase import Pairs, fatten, find_pairs, grown_pairs, new_pairs, pairs_hold
+from rustycs.broad_phase import Pairs, fatten, find_pairs, grown_pairs, new_pairs, pairs_hold, refresh_pairs
 from rustycs.constants import (
     CONTACT_DAMPING_RATIO,
     CONTACT_HERTZ,
@@ -250,7 +250,8 @@ def step_world(stepper, n_ticks, every):
             else:
                 update_geometry(bodies, shapes, SPECULATIVE_DISTANCE, dt, not statics_placed[0], geometry)
             statics_placed[0] = True
-            if not pairs_hold(bodies, shapes, geometry, pairs):
+            if not pairs_hold(bodies, shapes, geometry, pairs) and not refresh_pairs(
+                    bodies, shapes, joints, borrowed(stepper).joint_filter, geometry, pairs):
                 fatten(bodies, shapes, geometry, pairs)
                 n_pairs, n_entries = find_pairs(bodies, shapes, joints, borrowed(stepper).joint_filter, pairs)
                 if n_entries > pairs.cells.shape[0] or n_pairs > pairs.keys.shape[0]:
