@@ -100,10 +100,10 @@ def test_a_turning_wall_with_hundreds_of_partners_gets_exactly_the_pairs_of_its_
 
 
 def test_shapes_that_leave_their_fat_hitboxes_alone_get_their_pairs_found_again():
-    """Boxes tumbling in a turning drum of four walls (bench tumbler, smaller and faster): on many ticks
-    a few dozen shapes leave their fat hitboxes, and only theirs are found again (`refresh_pairs`), the
-    others' fat hitboxes kept (the walls, turning, leave theirs on most ticks). The pairs are always exactly those of overlapping fat hitboxes, each once,
-    sorted by (a, b)."""
+    """Boxes tumbling in a turning drum of four walls (bench tumbler, smaller): on many ticks a few dozen
+    shapes leave their fat hitboxes, and only theirs are found again (`refresh_pairs`), the others' fat
+    hitboxes kept (the walls, turning, leave theirs on most ticks). The pairs are always exactly those of
+    overlapping fat hitboxes, each once, sorted by (a, b)."""
     world = World(tick_rate=60, precision=4)
     world.add_force((0.0, -10.0))
     walls = [Box(0.5, 10.0, offset=(5.0, 0.0)), Box(0.5, 10.0, offset=(-5.0, 0.0)),
