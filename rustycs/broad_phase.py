@@ -114,6 +114,27 @@ def _cell(value, origin, inv_cell, count):
 
 
 @inlined
+def _inside(fat, hitbox, j):
+    """Whether hitbox j lies inside fat hitbox j."""
+    return (fat[j, 0] <= hitbox[j, 0] and fat[j, 1] <= hitbox[j, 1] and hitbox[j, 2] <= fat[j, 2]
+            and hitbox[j, 3] <= fat[j, 3])
+
+
+@inlined
+def _cell_range(fat, i, frame, nx, ny, ranges):
+    """Write shape i's range of grid cells (x0, y0, x1, y1) for its fat hitbox, or x0 = -1 where the
+    hitbox misses the grid's domain (or is not finite)."""
+    lo_x, lo_y, hi_x, hi_y, inv_cell = frame[0], frame[1], frame[2], frame[3], frame[4]
+    ranges[4 * i] = -1
+    if not (fat[i, 2] >= lo_x and fat[i, 0] <= hi_x and fat[i, 3] >= lo_y and fat[i, 1] <= hi_y):
+        return
+    ranges[4 * i] = _cell(fat[i, 0], lo_x, inv_cell, nx)
+    ranges[4 * i + 1] = _cell(fat[i, 1], lo_y, inv_cell, ny)
+    ranges[4 * i + 2] = _cell(fat[i, 2], lo_x, inv_cell, nx)
+    ranges[4 * i + 3] = _cell(fat[i, 3], lo_y, inv_cell, ny)
+
+
+@inlined
 def pairs_hold(bodies, shapes, geometry, pairs):
     """Whether the pairs found for the fat hitboxes still hold: they were found (count >= 0), no body
     was switched on or off, and every active shape's hitbox lies inside its fat one (a non-finite
@@ -129,8 +150,7 @@ def pairs_hold(bodies, shapes, geometry, pairs):
         for j in range(first[i], first[i] + count[i]):
             if on != fat_active[j]:
                 return False
-            if on and not asleep[i] and not (fat[j, 0] <= hitbox[j, 0] and fat[j, 1] <= hitbox[j, 1]
-                                             and hitbox[j, 2] <= fat[j, 2] and hitbox[j, 3] <= fat[j, 3]):
+            if on and not asleep[i] and not _inside(fat, hitbox, j):
                 return False
     return True
 
@@ -141,11 +161,17 @@ def fatten(bodies, shapes, geometry, pairs):
     hitbox, fat, fat_active, active, body = (geometry.hitbox, pairs.fat_hitbox, pairs.fat_active,
                                              bodies.active, shapes.body)
     for i in range(hitbox.shape[0]):
-        fat[i, 0] = hitbox[i, 0] - FAT_MARGIN
-        fat[i, 1] = hitbox[i, 1] - FAT_MARGIN
-        fat[i, 2] = hitbox[i, 2] + FAT_MARGIN
-        fat[i, 3] = hitbox[i, 3] + FAT_MARGIN
+        _fatten_shape(hitbox, fat, i)
         fat_active[i] = active[body[i]]
+
+
+@inlined
+def _fatten_shape(hitbox, fat, i):
+    """Shape i's fat hitbox: its hitbox grown by the margin."""
+    fat[i, 0] = hitbox[i, 0] - FAT_MARGIN
+    fat[i, 1] = hitbox[i, 1] - FAT_MARGIN
+    fat[i, 2] = hitbox[i, 2] + FAT_MARGIN
+    fat[i, 3] = hitbox[i, 3] + FAT_MARGIN
 
 
 @inlined
@@ -275,23 +301,17 @@ def find_pairs(bodies, shapes, joints, joint_filter, pairs):
     fill = grid[9 * n + 17:9 * n + 17 + n_cells]
     for c in range(n_cells + 1):
         counts[c] = 0
+    frame = pairs.frame
+    frame[0], frame[1], frame[2], frame[3], frame[4] = lo_x, lo_y, hi_x, hi_y, inv_cell
     for i in range(n):
         ranges[4 * i] = -1
         if not active[body[i]]:
             continue
-        inside = hitbox[i, 2] >= lo_x and hitbox[i, 0] <= hi_x
-        if not (inside and hitbox[i, 3] >= lo_y and hitbox[i, 1] <= hi_y):
+        _cell_range(hitbox, i, frame, nx, ny, ranges)
+        if ranges[4 * i] < 0:
             continue  # outside the domain (or not finite)
-        x0 = _cell(hitbox[i, 0], lo_x, inv_cell, nx)
-        y0 = _cell(hitbox[i, 1], lo_y, inv_cell, ny)
-        x1 = _cell(hitbox[i, 2], lo_x, inv_cell, nx)
-        y1 = _cell(hitbox[i, 3], lo_y, inv_cell, ny)
-        ranges[4 * i] = x0
-        ranges[4 * i + 1] = y0
-        ranges[4 * i + 2] = x1
-        ranges[4 * i + 3] = y1
-        for cy in range(y0, y1 + 1):
-            for cx in range(x0, x1 + 1):
+        for cy in range(ranges[4 * i + 1], ranges[4 * i + 3] + 1):
+            for cx in range(ranges[4 * i], ranges[4 * i + 2] + 1):
                 counts[cy * nx + cx + 1] += 1
     for c in range(n_cells):
         counts[c + 1] += counts[c]
@@ -308,9 +328,7 @@ def find_pairs(bodies, shapes, joints, joint_filter, pairs):
                 c = cy * nx + cx
                 cells[fill[c]] = i
                 fill[c] += 1
-    frame = pairs.frame
-    frame[0], frame[1], frame[2], frame[3], frame[4] = lo_x, lo_y, hi_x, hi_y, inv_cell
-    layout[0] = nx
+    layout[0] = nx  # the grid is whole: a refresh may use it
     layout[1] = ny
 
     # each body's partners of higher index, sorted as a run of their own: the keys come out sorted by
@@ -342,27 +360,6 @@ def find_pairs(bodies, shapes, joints, joint_filter, pairs):
     return count, entries
 
 
-@inlined
-def _inside(fat, hitbox, j):
-    """Whether hitbox j lies inside fat hitbox j."""
-    return (fat[j, 0] <= hitbox[j, 0] and fat[j, 1] <= hitbox[j, 1] and hitbox[j, 2] <= fat[j, 2]
-            and hitbox[j, 3] <= fat[j, 3])
-
-
-@inlined
-def _cell_range(fat, i, frame, nx, ny, ranges):
-    """Write shape i's range of grid cells (x0, y0, x1, y1) for its fat hitbox, or x0 = -1 where the
-    hitbox misses the grid's domain (or is not finite)."""
-    lo_x, lo_y, hi_x, hi_y, inv_cell = frame[0], frame[1], frame[2], frame[3], frame[4]
-    ranges[4 * i] = -1
-    if not (fat[i, 2] >= lo_x and fat[i, 0] <= hi_x and fat[i, 3] >= lo_y and fat[i, 1] <= hi_y):
-        return
-    ranges[4 * i] = _cell(fat[i, 0], lo_x, inv_cell, nx)
-    ranges[4 * i + 1] = _cell(fat[i, 1], lo_y, inv_cell, ny)
-    ranges[4 * i + 2] = _cell(fat[i, 2], lo_x, inv_cell, nx)
-    ranges[4 * i + 3] = _cell(fat[i, 3], lo_y, inv_cell, ny)
-
-
 @tick_kernel
 def refresh_pairs(bodies, shapes, joints, joint_filter, geometry, pairs):
     """Find again only the pairs of the shapes whose hitboxes left their fat ones, when they are few:
@@ -380,7 +377,7 @@ def refresh_pairs(bodies, shapes, joints, joint_filter, geometry, pairs):
     active, first, count, asleep, inv_mass = (bodies.active, bodies.first_shape, bodies.shape_count,
                                               bodies.asleep, bodies.inv_mass)
     n = fat.shape[0]
-    if pairs.count[0] < 0:
+    if pairs.count[0] < 0 or layout[0] == 0:  # to be found, or no whole grid (no dynamic shape)
         return False
     limit = int(MOST_DISPLACED * n) + 16
     n_displaced = layout[2]
@@ -391,7 +388,7 @@ def refresh_pairs(bodies, shapes, joints, joint_filter, geometry, pairs):
                 layout[2] = n_displaced
                 return False
             if on and not asleep[i] and not _inside(fat, hitbox, j):
-                if stale[j] == 0:
+                if stale[j] == IN_GRID:
                     if n_displaced == limit:
                         layout[2] = n_displaced
                         return False
@@ -405,10 +402,7 @@ def refresh_pairs(bodies, shapes, joints, joint_filter, geometry, pairs):
         j = displaced[k]
         if stale[j] != MOVED:
             continue
-        fat[j, 0] = hitbox[j, 0] - FAT_MARGIN
-        fat[j, 1] = hitbox[j, 1] - FAT_MARGIN
-        fat[j, 2] = hitbox[j, 2] + FAT_MARGIN
-        fat[j, 3] = hitbox[j, 3] + FAT_MARGIN
+        _fatten_shape(hitbox, fat, j)
         if inv_mass[shapes.body[j]] > 0.0 and not (frame[0] <= fat[j, 0] and fat[j, 2] <= frame[2]
                                                    and frame[1] <= fat[j, 1] and fat[j, 3] <= frame[3]):
             return False  # a dynamic shape beyond the domain could meet a fixed one the grid left out
