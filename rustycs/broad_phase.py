@@ -205,6 +205,25 @@ SHAPE_BITS = 27  # a pair's key: (a << SHAPE_BITS) | b, so that keys sort by (a,
 SHAPE_MASK = (1 << SHAPE_BITS) - 1
 
 
+@inlined
+def _pair_key(i, j):
+    """The key of the pair of shapes i and j, the lower first."""
+    return (min(i, j) << SHAPE_BITS) | max(i, j)
+
+
+@inlined
+def _pairable(shapes, bodies, joints, joint_filter, fat, i, j):
+    """Whether shapes i and j are a candidate pair: their fat hitboxes overlap and they `may_collide`."""
+    return hitboxes_overlap(fat, i, j) and may_collide(shapes, bodies, joints, joint_filter, i, j)
+
+
+@inlined
+def _reported_here(ranges, i, j, cx, cy):
+    """Whether cell (cx, cy) reports the pair of shapes i and j: the one of their cell ranges'
+    intersection's lower corner, so that a pair is reported once."""
+    return max(ranges[4 * i], ranges[4 * j]) == cx and max(ranges[4 * i + 1], ranges[4 * j + 1]) == cy
+
+
 @njit(cache=True)
 def grid_scratch_size(n):
     """Integers of scratch `find_pairs` needs for n shapes: cell ranges, moving shapes, cell counts."""
@@ -346,15 +365,12 @@ def find_pairs(bodies, shapes, joints, joint_filter, pairs):
                     j = cells[p]
                     if j <= i:
                         break
-                    # a pair is reported once: in the cell of its intersection's lower corner
-                    if (max(ranges[4 * i], ranges[4 * j]) != cx
-                            or max(ranges[4 * i + 1], ranges[4 * j + 1]) != cy):
+                    if not _reported_here(ranges, i, j, cx, cy):
                         continue
-                    if not hitboxes_overlap(hitbox, i, j) or not may_collide(shapes, bodies, joints,
-                                                                             joint_filter, i, j):
+                    if not _pairable(shapes, bodies, joints, joint_filter, hitbox, i, j):
                         continue
                     if count < keys.shape[0]:
-                        keys[count] = (i << SHAPE_BITS) | j
+                        keys[count] = _pair_key(i, j)
                     count += 1
         sort_run(keys, first, min(count, keys.shape[0]))
     return count, entries
@@ -435,17 +451,13 @@ def refresh_pairs(bodies, shapes, joints, joint_filter, geometry, pairs):
                     j = cells[p]
                     if stale[j] != IN_GRID:
                         continue  # displaced: found by the sweep below
-                    # once: in the cell of the intersection's lower corner
-                    if (max(ranges[4 * i], ranges[4 * j]) != cx
-                            or max(ranges[4 * i + 1], ranges[4 * j + 1]) != cy):
+                    if not _reported_here(ranges, i, j, cx, cy):
                         continue
-                    if not hitboxes_overlap(fat, i, j):
-                        continue
-                    if not may_collide(shapes, bodies, joints, joint_filter, i, j):
+                    if not _pairable(shapes, bodies, joints, joint_filter, fat, i, j):
                         continue
                     if n_found == found.shape[0]:
                         return False
-                    found[n_found] = (min(i, j) << SHAPE_BITS) | max(i, j)
+                    found[n_found] = _pair_key(i, j)
                     n_found += 1
     for k in range(n_displaced):
         i = displaced[k]
@@ -455,11 +467,11 @@ def refresh_pairs(bodies, shapes, joints, joint_filter, geometry, pairs):
                 break
             if stale[i] != MOVED and stale[j] != MOVED:
                 continue  # kept from before
-            if not hitboxes_overlap(fat, i, j) or not may_collide(shapes, bodies, joints, joint_filter, i, j):
+            if not _pairable(shapes, bodies, joints, joint_filter, fat, i, j):
                 continue
             if n_found == found.shape[0]:
                 return False
-            found[n_found] = (min(i, j) << SHAPE_BITS) | max(i, j)
+            found[n_found] = _pair_key(i, j)
             n_found += 1
     total = kept + n_found
     if total > keys.shape[0]:
