@@ -260,12 +260,24 @@ def _select(values, k):
 @tick_kernel
 def find_pairs(bodies, shapes, joints, joint_filter, pairs):
     """Candidate pairs as sorted keys (a << SHAPE_BITS) | b in pairs.keys, a < b, that `may_collide`,
-    for the fat hitboxes.
+    for the fat hitboxes: the grid (`make_grid`), then every shape's partners (`partners`).
 
     Returns (pair count, cell entries): when either exceeds its buffer (`keys`, `cells`), the pairs
     were not all written, and the caller grows the buffers and calls again.
     """
-    hitbox, grid, extents, cells, keys = pairs.fat_hitbox, pairs.grid, pairs.extents, pairs.cells, pairs.keys
+    entries = make_grid(bodies, shapes, pairs)
+    if pairs.layout[0] == 0:
+        return 0, entries
+    return partners(bodies, shapes, joints, joint_filter, pairs, 0, pairs.fat_hitbox.shape[0], pairs.keys,
+                    0), entries
+
+
+@inlined
+def make_grid(bodies, shapes, pairs):
+    """The grid of the fat hitboxes (cell ranges, cell starts and entries in `pairs`); returns its cell
+    entries. The grid is whole when layout[0] (cells along x) is set: not when there is no dynamic shape,
+    a hitbox is not finite, or the entries exceed `cells`."""
+    hitbox, grid, extents, cells = pairs.fat_hitbox, pairs.grid, pairs.extents, pairs.cells
     inv_mass, active, body = bodies.inv_mass, bodies.active, shapes.body
     layout, stale, displaced = pairs.layout, pairs.stale, pairs.displaced
     n = hitbox.shape[0]
@@ -280,7 +292,7 @@ def find_pairs(bodies, shapes, joints, joint_filter, pairs):
             dynamic[nd] = i
             nd += 1
     if nd == 0:
-        return 0, 0
+        return 0
     lo_x = np.inf
     lo_y = np.inf
     hi_x = -np.inf
@@ -295,7 +307,7 @@ def find_pairs(bodies, shapes, joints, joint_filter, pairs):
     width = hi_x - lo_x
     height = hi_y - lo_y
     if not (math.isfinite(width) and math.isfinite(height)):
-        return 0, 0  # a non-finite state: the step reports it
+        return 0  # a non-finite state: the step reports it
     # the cell size only decides speed, never which pairs are found
     cell = max(_select(extents[:nd], nd // 2), 1e-9)
     # a cell more on every side: dynamic shapes that leave their fat hitboxes stay in the domain a while,
@@ -336,7 +348,7 @@ def find_pairs(bodies, shapes, joints, joint_filter, pairs):
         counts[c + 1] += counts[c]
     entries = counts[n_cells]
     if entries > cells.shape[0]:
-        return 0, entries
+        return entries
     for c in range(n_cells):
         fill[c] = counts[c]
     for i in range(n):
@@ -349,14 +361,27 @@ def find_pairs(bodies, shapes, joints, joint_filter, pairs):
                 fill[c] += 1
     layout[0] = nx  # the grid is whole: a refresh may use it
     layout[1] = ny
+    return entries
 
-    # each body's partners of higher index, sorted as a run of their own: the keys come out sorted by
+
+@inlined
+def partners(bodies, shapes, joints, joint_filter, pairs, first, last, out, start):
+    """The keys of the pairs of shapes first .. last - 1 with their partners of higher index, in the grid
+    of `make_grid`, written into `out` from `start` (as many as fit) in key order; returns how many there
+    are. Each shape's pairs come from the grid alone, so that ranges of shapes may be searched apart
+    (`rustycs.threads`) and joined in order."""
+    hitbox, grid, cells = pairs.fat_hitbox, pairs.grid, pairs.cells
+    n = hitbox.shape[0]
+    nx, ny = pairs.layout[0], pairs.layout[1]
+    ranges = grid[n:5 * n]
+    counts = grid[5 * n:5 * n + nx * ny + 1]
+    # each shape's partners of higher index, sorted as a run of their own: the keys come out sorted by
     # (a, b) with no sort of the whole list
-    count = 0
-    for i in range(n):
+    count = start
+    for i in range(first, last):
         if ranges[4 * i] < 0:
             continue
-        first = count
+        run = count
         for cy in range(ranges[4 * i + 1], ranges[4 * i + 3] + 1):
             for cx in range(ranges[4 * i], ranges[4 * i + 2] + 1):
                 c = cy * nx + cx
@@ -369,11 +394,11 @@ def find_pairs(bodies, shapes, joints, joint_filter, pairs):
                         continue
                     if not _pairable(shapes, bodies, joints, joint_filter, hitbox, i, j):
                         continue
-                    if count < keys.shape[0]:
-                        keys[count] = _pair_key(i, j)
+                    if count < out.shape[0]:
+                        out[count] = _pair_key(i, j)
                     count += 1
-        sort_run(keys, first, min(count, keys.shape[0]))
-    return count, entries
+        sort_run(out, run, min(count, out.shape[0]))
+    return count - start
 
 
 @tick_kernel

@@ -73,8 +73,10 @@ from rustycs.threads import (
     BODY_PART,
     CHUNK_PART,
     PAIR_PART,
+    SHAPE_PART,
     ThreadScratch,
     collide_pairs_in_parts,
+    find_pairs_in_parts,
     new_thread_scratch,
     place_bodies_in_parts,
     prepare_in_parts,
@@ -131,7 +133,7 @@ def new_workspace(n_bodies, shapes, n_joints, max_vertices, c_key, c_jn, c_jt, s
                      new_hold_back(n_bodies, n_shapes), new_joint_work(n_bodies, n_joints),
                      new_events(events_bound(0, n_bodies, n_joints, capacity, capacity)),  # tick 1 fits
                      np.zeros(1, np.bool_), new_touching(capacity), new_islands(n_bodies if sleeps else 0),
-                     new_thread_scratch(threads, capacity))
+                     new_thread_scratch(threads, capacity, capacity, n_shapes))
 
 
 @njit(cache=True)
@@ -140,14 +142,19 @@ def grown(ws, n_bodies, cells, pairs, points, chunks, events):
     large (the contents of a replaced buffer are not kept: each is refilled by its stage; the events
     so far, the pairs touching and the points asleep are)."""
     p = ws.pairs
+    contacts, batches, touching, threads = ws.contacts, ws.batches, ws.touching, ws.threads
+    regrown = False
     if cells > p.cells.shape[0] or pairs > p.keys.shape[0]:
         p = grown_pairs(p, pairs, cells)
-    contacts, batches, touching, threads = ws.contacts, ws.batches, ws.touching, ws.threads
+        regrown = True
     if pairs > contacts.manifolds.first.shape[0]:
         contacts = new_contacts(2 * pairs, contacts.asleep.key.shape[0] > 0, contacts.asleep)
         batches = new_batches(n_bodies, 2 * pairs)
         touching = grown_touching(touching, 2 * pairs)
-        threads = new_thread_scratch(threads.normal.shape[0], 2 * pairs)
+        regrown = True
+    if regrown:
+        threads = new_thread_scratch(threads.normal.shape[0], contacts.manifolds.first.shape[0],
+                                     p.keys.shape[0], p.fat_active.shape[0])
     kept = ws.events
     if events > kept.tick.shape[0]:
         kept = grown_events(kept, 2 * events)
@@ -253,7 +260,11 @@ def step_world(stepper, n_ticks, every):
             if not pairs_hold(bodies, shapes, geometry, pairs) and not refresh_pairs(
                     bodies, shapes, joints, borrowed(stepper).joint_filter, geometry, pairs):
                 fatten(bodies, shapes, geometry, pairs)
-                n_pairs, n_entries = find_pairs(bodies, shapes, joints, borrowed(stepper).joint_filter, pairs)
+                if threaded and shapes.body.shape[0] >= 2 * SHAPE_PART:
+                    n_pairs, n_entries = find_pairs_in_parts(stepper)
+                else:
+                    n_pairs, n_entries = find_pairs(bodies, shapes, joints, borrowed(stepper).joint_filter,
+                                                    pairs)
                 if n_entries > pairs.cells.shape[0] or n_pairs > pairs.keys.shape[0]:
                     pairs.count[0] = -1  # find them again
                     status[NEED_CELLS] = n_entries

@@ -1,13 +1,14 @@
 """Threads inside one world: the stages whose work splits by element run in parts, over threads.
 
-A world stepped with `threads` > 1 places its bodies' shapes, collides its candidate pairs and fills its
-contacts' solver lanes in parts of a fixed size (not a share per thread): each part computes its
-elements from their own inputs alone, into rows of its own, and the parts are joined in order. So the
-result is bitwise that of one thread, for any thread count. The solver's substeps run group by group of
-islands (`substeps`), the groups side by side; within an island each body meets its contacts in a fixed
-order, a chain through the whole pile, so one island runs on one thread. The broad phase and the rest of
-the tick stay on the calling thread. numba's parallel loops (`prange`) run the parts; a world with fewer
-than two parts of a stage runs it on one thread, as waking the threads costs more than the work.
+A world stepped with `threads` > 1 places its bodies' shapes, finds its shapes' partners in a whole search
+of the broad phase, collides its candidate pairs and fills its contacts' solver lanes in parts of a fixed
+size (not a share per thread): each part computes its elements from their own inputs alone, into rows of
+its own, and the parts are joined in order. So the result is bitwise that of one thread, for any thread
+count. The solver's substeps run group by group of islands (`substeps`), the groups side by side; within
+an island each body meets its contacts in a fixed order, a chain through the whole pile, so one island
+runs on one thread. The broad phase's grid and refresh and the rest of the tick stay on the calling
+thread. numba's parallel loops (`prange`) run the parts; a world with fewer than two parts of a stage
+runs it on one thread, as waking the threads costs more than the work.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import get_thread_id, njit, prange
 
+from rustycs.broad_phase import make_grid, partners
 from rustycs.compiling import inlined, parallel_kernel
 from rustycs.contact_solver import prepare_chunks, store_impulses
 from rustycs.geometry import Geometry, place_bodies
@@ -28,6 +30,7 @@ from rustycs.substeps import group_substeps
 from rustycs.time_of_impact import Sweep
 
 BODY_PART = 64  # bodies placed by one part
+SHAPE_PART = 128  # shapes whose partners one part of a whole search finds
 PAIR_PART = 128  # candidate pairs collided by one part
 CHUNK_PART = 16  # chunks of contacts whose lanes one part fills
 
@@ -35,8 +38,9 @@ CHUNK_PART = 16  # chunks of contacts whose lanes one part fills
 class ThreadScratch(NamedTuple):
     """Per thread, the scratch of one pair's collision and sweep (rows as `manifold.Collision` and
     `time_of_impact.Sweep`); per part of the pairs, the manifolds and points it found; per part of the
-    chunks, its bouncing contacts. (A parallel loop sums nothing itself: that needs numba's reference
-    counting, which the tick's kernels go without.)"""
+    chunks, its bouncing contacts; per thread, the pair keys of the parts of a whole search it took, and per
+    part of the shapes, the thread, first key and count of its pairs. (A parallel loop sums nothing
+    itself: that needs numba's reference counting, which the tick's kernels go without.)"""
 
     normal: np.ndarray  # (T, 2)
     points: np.ndarray  # (T, 2, 2)
@@ -56,11 +60,15 @@ class ThreadScratch(NamedTuple):
     travel: np.ndarray  # (T, 2, 2)
     found: np.ndarray  # (P, 2) int64 per part of the pairs: manifolds and points
     bouncy: np.ndarray  # (C,) int64 per part of the chunks: contacts that may bounce
+    keys: np.ndarray  # (T, K) int64, K as long as the pairs' keys (unzeroed: only rows used are resident)
+    filled: np.ndarray  # (T,) int64: keys in each thread's row
+    shape_parts: np.ndarray  # (S, 3) int64 per part of the shapes: thread, first key in its row, count
 
 
 @njit(cache=True)
-def new_thread_scratch(threads, pairs):
-    """Scratch for `threads` threads colliding up to `pairs` candidate pairs."""
+def new_thread_scratch(threads, pairs, keys, shapes):
+    """Scratch for `threads` threads colliding up to `pairs` candidate pairs, finding up to `keys` pairs
+    of `shapes` shapes."""
     t = threads
     return ThreadScratch(np.zeros((t, 2)), np.zeros((t, 2, 2)), np.zeros((t, 2)), np.zeros((t, 2), np.int64),
                          np.zeros((t, 1)), np.zeros((t, 2), np.int64), np.zeros((t, 2)),
@@ -69,7 +77,9 @@ def new_thread_scratch(threads, pairs):
                          np.zeros((t, 2, 2)), np.zeros((t, 2, 2, 2)), np.zeros((t, 2, 4)), np.zeros((t, 2)),
                          np.zeros((t, 2, 2)),
                          np.zeros((pairs // PAIR_PART + 1, 2), np.int64),
-                         np.zeros(pairs // CHUNK_PART + 1, np.int64))
+                         np.zeros(pairs // CHUNK_PART + 1, np.int64),
+                         np.empty((t, keys), np.int64), np.zeros(t, np.int64),
+                         np.zeros((shapes // SHAPE_PART + 1, 3), np.int64))
 
 
 @inlined
@@ -103,6 +113,65 @@ def _place_part(stepper, p, n, margin, dt, statics):
     world = borrowed(stepper)
     place_bodies(p * BODY_PART, min(n, (p + 1) * BODY_PART), world.bodies, world.shapes, margin, dt, statics,
                  world.workspace.geometry)
+
+
+@parallel_kernel
+def find_pairs_in_parts(stepper):
+    """`broad_phase.find_pairs` of the stepper's world, the partners found in parts of SHAPE_PART shapes:
+    each thread appends the keys of the parts it takes to a row of its own, then the parts are joined in
+    order (each part's keys are sorted and follow the last part's). Returns (pair count, cell entries)."""
+    world = borrowed(stepper)
+    pairs = world.workspace.pairs
+    entries = make_grid(world.bodies, world.shapes, pairs)
+    if pairs.layout[0] == 0:
+        return 0, entries
+    scratch = world.workspace.threads
+    _empty_rows(scratch.filled)
+    n_parts = (pairs.fat_hitbox.shape[0] + SHAPE_PART - 1) // SHAPE_PART
+    for p in prange(n_parts):
+        _partners_part(stepper, p, get_thread_id())
+    return _join_keys(pairs.keys, scratch, n_parts), entries
+
+
+@inlined
+def _empty_rows(filled):
+    """No keys in any thread's row (written in a call: see above)."""
+    for t in range(filled.shape[0]):
+        filled[t] = 0
+
+
+@inlined
+def _partners_part(stepper, p, thread):
+    world = borrowed(stepper)
+    ws = world.workspace
+    scratch = ws.threads
+    n = ws.pairs.fat_hitbox.shape[0]
+    start = scratch.filled[thread]
+    found = partners(world.bodies, world.shapes, world.joints, world.joint_filter, ws.pairs, p * SHAPE_PART,
+                     min(n, (p + 1) * SHAPE_PART), scratch.keys[thread], start)
+    scratch.shape_parts[p, 0] = thread
+    scratch.shape_parts[p, 1] = start
+    scratch.shape_parts[p, 2] = found
+    scratch.filled[thread] = start + found
+
+
+@inlined
+def _join_keys(keys, scratch, n_parts):
+    """Copy each part's keys after the parts before it; returns the pairs found (copied only when they fit
+    in `keys`, and so in every thread's row, as long)."""
+    parts = scratch.shape_parts
+    total = 0
+    for p in range(n_parts):
+        total += parts[p, 2]
+    if total > keys.shape[0]:
+        return total
+    out = 0
+    for p in range(n_parts):
+        row = scratch.keys[parts[p, 0]]
+        for k in range(parts[p, 1], parts[p, 1] + parts[p, 2]):
+            keys[out] = row[k]
+            out += 1
+    return total
 
 
 @parallel_kernel

@@ -1,6 +1,6 @@
 """Threads inside one world: a mixed pile of every shape kind steps bitwise the same with 1, 2 and 3
-threads (the shapes placed, pairs collided and lanes prepared in parts), in the engine and through
-`rustycs run --threads`."""
+threads (the shapes placed, their partners found, pairs collided and lanes prepared in parts), in the
+engine and through `rustycs run --threads`."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import pytest
 
 from rustycs import Box, Capsule, Chain, Circle, Polygon, Segment, World
 from rustycs.debug import pairs
-from rustycs.threads import BODY_PART, PAIR_PART
+from rustycs.threads import BODY_PART, PAIR_PART, SHAPE_PART
 
 TICKS = 90
 
@@ -53,6 +53,7 @@ def test_the_pile_is_large_enough_to_run_in_parts():
     world = every_shape_pile(1)
     world.step(TICKS)
     assert world.body_count >= 2 * BODY_PART
+    assert world.shape_count >= 2 * SHAPE_PART
     assert len(pairs(world)) >= 2 * PAIR_PART
 
 
@@ -62,6 +63,33 @@ def test_threads_give_bitwise_the_trajectory_of_one(threads):
     for _ in range(3):
         one.step(TICKS // 3)
         many.step(TICKS // 3)
+        assert state(many) == state(one)
+
+
+def crowd(threads: int) -> World:
+    """300 circles of radius 1 dropped within 0.4 m of one spot, 2 m above a floor: all 44,850 pairs of
+    circles are candidates, more than the pair buffers first hold (4 a shape), so the first whole search
+    outgrows them."""
+    rng = np.random.default_rng(3)
+    world = World(tick_rate=60.0, precision=4, threads=threads)
+    world.add_force((0.0, -9.81))
+    world.add_body(Box(40.0, 1.0), position=(0.0, -0.5), body_type="static")
+    for _ in range(300):
+        world.add_body(Circle(1.0), position=tuple(rng.uniform(-0.2, 0.2, 2) + (0.0, 3.0)))
+    return world
+
+
+def test_a_whole_search_in_parts_that_outgrows_its_buffers_finds_the_pairs_of_one_thread():
+    one, many = crowd(1), crowd(2)
+    one.step(1)
+    many.step(1)
+    found = pairs(many)
+    assert len(found) == 300 * 299 // 2 > 4 * many.shape_count + 16
+    assert np.array_equal(found, pairs(one))
+    for _ in range(3):
+        one.step(10)
+        many.step(10)
+        assert np.array_equal(pairs(many), pairs(one))
         assert state(many) == state(one)
 
 
