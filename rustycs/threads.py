@@ -62,7 +62,7 @@ class ThreadScratch(NamedTuple):
     bouncy: np.ndarray  # (C,) int64 per part of the chunks: contacts that may bounce
     keys: np.ndarray  # (T, K) int64, K as long as the pairs' keys (unzeroed: only rows used are resident)
     filled: np.ndarray  # (T,) int64: keys in each thread's row
-    shape_parts: np.ndarray  # (S, 3) int64 per part of the shapes: thread, first key in its row, count
+    shape_parts: np.ndarray  # (Q, 3) int64 per part of the shapes: thread, first key in its row, count
 
 
 @njit(cache=True)
