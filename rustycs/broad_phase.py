@@ -218,6 +218,18 @@ def _pairable(shapes, bodies, joints, joint_filter, fat, i, j):
 
 
 @inlined
+def _add_found(shapes, bodies, joints, joint_filter, fat, i, j, found, n_found):
+    """Append the pair of shapes i and j to the `n_found` keys in `found` when they are a candidate pair
+    (`_pairable`); returns the keys then found, or -1 when `found` is full."""
+    if not _pairable(shapes, bodies, joints, joint_filter, fat, i, j):
+        return n_found
+    if n_found == found.shape[0]:
+        return -1
+    found[n_found] = _pair_key(i, j)
+    return n_found + 1
+
+
+@inlined
 def _reported_here(ranges, i, j, cx, cy):
     """Whether cell (cx, cy) reports the pair of shapes i and j: the one of their cell ranges'
     intersection's lower corner, so that a pair is reported once."""
@@ -478,12 +490,9 @@ def refresh_pairs(bodies, shapes, joints, joint_filter, geometry, pairs):
                         continue  # displaced: found by the sweep below
                     if not _reported_here(ranges, i, j, cx, cy):
                         continue
-                    if not _pairable(shapes, bodies, joints, joint_filter, fat, i, j):
-                        continue
-                    if n_found == found.shape[0]:
+                    n_found = _add_found(shapes, bodies, joints, joint_filter, fat, i, j, found, n_found)
+                    if n_found < 0:
                         return False
-                    found[n_found] = _pair_key(i, j)
-                    n_found += 1
     for k in range(n_displaced):
         i = displaced[k]
         for q in range(k + 1, n_displaced):
@@ -492,12 +501,9 @@ def refresh_pairs(bodies, shapes, joints, joint_filter, geometry, pairs):
                 break
             if stale[i] != MOVED and stale[j] != MOVED:
                 continue  # kept from before
-            if not _pairable(shapes, bodies, joints, joint_filter, fat, i, j):
-                continue
-            if n_found == found.shape[0]:
+            n_found = _add_found(shapes, bodies, joints, joint_filter, fat, i, j, found, n_found)
+            if n_found < 0:
                 return False
-            found[n_found] = _pair_key(i, j)
-            n_found += 1
     total = kept + n_found
     if total > keys.shape[0]:
         return False
