@@ -25,7 +25,9 @@ if TYPE_CHECKING:
     from .loading import LoadedScene
 
 EXIT_CODES = {"complete": 0, "stopped": 0, "diverged": 1, "interrupted": 130}
-COMPILE_SECONDS = 150  # first compilation of the engine, 2 cores (measured: 150 s alone, 240 s loaded)
+# the first compilation of the engine on a 2-core machine: 4-5 min measured on 2026-12-07, 6.8-7.0 min on
+# 2026-12-08 (`rustycs run` of large_pyramid 420 s, the bench's cold row 405 s); it was 150 s on 2026-12-02
+COMPILE_TIME = "4-7 min"
 BLOCK_TICKS = 256  # at most about this many ticks per engine call, so that Ctrl-C is answered promptly
 
 
@@ -202,8 +204,6 @@ def _run_calls(loaded: LoadedScene, out: Path, ticks: int | None = None, every: 
     """A run as a generator: it opens the trajectory and yields its `Calls`, takes the `Stepped` outcome
     of each engine call its driver (`run_scene` alone, `run_batch` in a batch) makes, records the frames
     and events, and returns the RunResult once the run has ended and its files are written."""
-    import rustycs
-
     from .build import build_world, material_names, shape_material_names
     from .output_files import (
         check_free_space,
@@ -239,8 +239,8 @@ def _run_calls(loaded: LoadedScene, out: Path, ticks: int | None = None, every: 
         attach(world, plan, contact_events=scene.output.events)
         if not allow_full_disk:
             check_free_space(out, estimated_bytes(world.body_count, ticks, every))
-        if rustycs.compile_needed() and not quiet:
-            print(f"rustycs: compiling the engine (happens once, ~{COMPILE_SECONDS} s)...", file=sys.stderr)
+        if not quiet:
+            announce_compile()
         warm_up()
         names = [body.name for body in scene.bodies]
         tracker = SummaryTracker(list(world.body_types), energy_conservation(scene))
@@ -327,6 +327,14 @@ def _divergence_message(err: Any, names: list[str], last_tick: int, out: Path) -
     who = f"body {names[body]!r} (index {body})" if 0 <= body < len(names) else f"body index {body}"
     return (f"rustycs: the run diverged at tick {err.tick}: {who} got a non-finite state; "
             f"frames up to tick {last_tick} are kept in {out}")
+
+
+def announce_compile() -> None:
+    """Say on stderr, once, that the engine compiles now (when its disk cache is cold)."""
+    import rustycs
+
+    if rustycs.compile_needed():
+        print(f"rustycs: compiling the engine (happens once, {COMPILE_TIME} on 2 cores)...", file=sys.stderr)
 
 
 @functools.cache

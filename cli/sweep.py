@@ -17,7 +17,6 @@ import json
 import os
 import re
 import signal
-import sys
 import threading
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
@@ -523,11 +522,11 @@ def _compile_engine_once(quiet: bool) -> None:
     them from the cache instead of each compiling them at the same time."""
     import rustycs
 
-    from .simulation import COMPILE_SECONDS, warm_up
+    from .simulation import announce_compile, warm_up
 
     if rustycs.compile_needed():
         if not quiet:
-            print(f"rustycs: compiling the engine (happens once, ~{COMPILE_SECONDS} s)...", file=sys.stderr)
+            announce_compile()
         warm_up()
 
 
