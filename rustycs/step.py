@@ -153,7 +153,7 @@ def grown(ws, n_bodies, cells, pairs, points, chunks, events):
         touching = grown_touching(touching, 2 * pairs)
         regrown = True
     if regrown:
-        threads = new_thread_scratch(threads.normal.shape[0], contacts.manifolds.first.shape[0],
+        threads = new_thread_scratch(threads.filled.shape[0], contacts.manifolds.first.shape[0],
                                      p.keys.shape[0], p.fat_active.shape[0])
     kept = ws.events
     if events > kept.tick.shape[0]:
