@@ -204,6 +204,8 @@ def _run_calls(loaded: LoadedScene, out: Path, ticks: int | None = None, every: 
     """A run as a generator: it opens the trajectory and yields its `Calls`, takes the `Stepped` outcome
     of each engine call its driver (`run_scene` alone, `run_batch` in a batch) makes, records the frames
     and events, and returns the RunResult once the run has ended and its files are written."""
+    import rustycs
+
     from .build import build_world, material_names, shape_material_names
     from .output_files import (
         check_free_space,
@@ -239,7 +241,7 @@ def _run_calls(loaded: LoadedScene, out: Path, ticks: int | None = None, every: 
         attach(world, plan, contact_events=scene.output.events)
         if not allow_full_disk:
             check_free_space(out, estimated_bytes(world.body_count, ticks, every))
-        if not quiet:
+        if not quiet and rustycs.compile_needed():
             announce_compile()
         warm_up()
         names = [body.name for body in scene.bodies]
@@ -330,11 +332,8 @@ def _divergence_message(err: Any, names: list[str], last_tick: int, out: Path) -
 
 
 def announce_compile() -> None:
-    """Say on stderr, once, that the engine compiles now (when its disk cache is cold)."""
-    import rustycs
-
-    if rustycs.compile_needed():
-        print(f"rustycs: compiling the engine (happens once, {COMPILE_TIME} on 2 cores)...", file=sys.stderr)
+    """Say on stderr that the engine compiles now (its disk cache is cold: `rustycs.compile_needed`)."""
+    print(f"rustycs: compiling the engine (happens once, {COMPILE_TIME} on 2 cores)...", file=sys.stderr)
 
 
 @functools.cache
