@@ -209,13 +209,20 @@ def _collide_part(stepper, p, n_pairs, margin, dt, sleeping, thread):
 
 @inlined
 def _join(contacts, found, n_parts):
-    """Move each part's manifolds and points down to follow the parts before it."""
+    """Move each part's manifolds and points down to follow the parts before it. A part after none but full
+    ones (every pair a manifold of two points) is in place: all 453 of many_pyramids' parts are, and moving
+    them onto themselves took 0.9-1.2 ms. (Copied into rows of their own, the parts joined over two threads
+    took as long: the copy is bound by memory.)"""
     m = contacts.manifolds
     pts = contacts.points
     n_man = 0
     n_pts = 0
     for p in range(n_parts):
         m_from, p_from = p * PAIR_PART, 2 * p * PAIR_PART
+        if n_man == m_from and n_pts == p_from:
+            n_man += found[p, 0]
+            n_pts += found[p, 1]
+            continue
         for k in range(found[p, 0]):
             src, dst = m_from + k, n_man + k
             m.shape_a[dst] = m.shape_a[src]
