@@ -313,7 +313,8 @@ def test_series_medians_ratios_and_failures(monkeypatch: pytest.MonkeyPatch):
         if value is None:
             return {"error": "diverged"}
         return {"ms_per_tick": value, "scene": "S2_pyramid20", "bodies": 210, "ticks": 600,
-                "quality": {"max_displacement": value / 10}, "sleep": sleep, "threads": threads}
+                "quality": {"max_displacement": value / 10}, "sleep": sleep, "threads": threads,
+                "kb_per_body": 3 * value}
 
     monkeypatch.setattr(suite.runner, "measure_steps", fake)
     plan = suite.Plan(scenes={"S2": Path("S2.yaml")}, engines=("rustycs", "pymunk", "pyb2d3"), reps=3,
@@ -323,6 +324,7 @@ def test_series_medians_ratios_and_failures(monkeypatch: pytest.MonkeyPatch):
     row = rows["S2"]
     assert row["engines"]["rustycs"]["median_ms"] == 2.0 and row["engines"]["rustycs"]["min_ms"] == 1.0
     assert row["ratios"] == {"pymunk": 0.5, "pyb2d3": 2.0}
+    assert row["engines"]["rustycs"]["median_kb_per_body"] == 6.0
     assert row["engines"]["pymunk"]["quality"] == {"max_displacement": 0.4}  # from the first repetition
     assert all((cell["sleep"], cell["threads"]) == (True, 2) for cell in row["engines"].values())
     settings = {"sleep": True, "threads": 2, "engines": {"rustycs": "sleeping on", "pymunk": "2 threads"}}
@@ -341,6 +343,12 @@ def test_series_medians_ratios_and_failures(monkeypatch: pytest.MonkeyPatch):
         ["S2_pyramid20", "210", "600", "2.000 (1.000)", "4.000 (4.000)", "0.50", "1.000 (1.000)", "2.00"],
         ["S2_pyramid20", "worst box displacement, m", "0.1", "0.4", "0.1"],
     ]
+    result["scaling"] = {"4000": result["scenes"]["S2"]}
+    console = Console(record=True, width=200)
+    print_report(result, markdown=True, console=console)
+    memory = [[cell.strip() for cell in line.strip().strip("|").split("|")]
+              for line in console.export_text().splitlines() if line.startswith("| 4000")]
+    assert memory[-1] == ["4000", "6.0", "12.0", "3.0"]  # KB per body: rustycs, pymunk, Box2D v3
 
 
 # ------------------------------------------------------------------------------------- the command
@@ -367,6 +375,7 @@ def test_bench_one_scene_json(cli, monkeypatch: pytest.MonkeyPatch):
         assert (row["bodies"], row["ticks"]) == (int(count), 5)
         # 5 ticks after release from a grid wider than the circles: nothing touches, nothing escaped
         assert row["engines"]["rustycs"]["quality"] == {"max_overlap": 0.0, "escaped": 0}
+        assert 0 < row["engines"]["rustycs"]["median_kb_per_body"] < 100  # its world, not the kernels' 100 MB
 
 
 @needs_peers

@@ -62,6 +62,7 @@ def tables(result: dict[str, Any]) -> list[Table]:
         ticks = next(iter(result["scaling"].values())).get("ticks", "?")
         out.append(_speed_table(result["scaling"], "bodies",
                                 f"scaling: circles in a container, ms per tick over {ticks} ticks; {ran}"))
+        out.append(_memory_table(result["scaling"], ran))
     return out
 
 
@@ -102,6 +103,20 @@ def _speed_table(rows: dict[str, Any], key_title: str, title: str) -> Table:
                 ratio = row["ratios"].get(engine)
                 cells.append("–" if ratio is None else f"{ratio:.2f}")
         table.add_row(*cells)
+    return table
+
+
+def _memory_table(rows: dict[str, Any], ran: str) -> Table:
+    """Resident memory per body after each scaling run, median of the repetitions."""
+    engines = _engines(rows)
+    table = Table(title="scaling: resident memory of the engine's world after the run, KB per body, "
+                  f"median; {ran}")
+    table.add_column("bodies")
+    for engine in engines:
+        table.add_column(ENGINE_TITLES[engine], justify="right")
+    for key, row in rows.items():
+        values = [row["engines"].get(engine, {}).get("median_kb_per_body") for engine in engines]
+        table.add_row(key, *("–" if value is None else f"{value:.1f}" for value in values))
     return table
 
 

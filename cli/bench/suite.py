@@ -85,6 +85,7 @@ def _series(plan: Plan, items: list[tuple[str, str, tuple[str, ...]]],
                     progress(f"rep {rep + 1} {key:5} {engine:8} failed: {run['error']}")
                     continue
                 cell["ms_per_tick"].append(run["ms_per_tick"])
+                cell.setdefault("kb_per_body", []).append(run["kb_per_body"])
                 cell.setdefault("quality", run["quality"])
                 cell.update(sleep=run["sleep"], threads=run["threads"])  # as the engine's world reports them
                 row.update(name=run["scene"], bodies=run["bodies"], ticks=run["ticks"])
@@ -94,6 +95,7 @@ def _series(plan: Plan, items: list[tuple[str, str, tuple[str, ...]]],
             times = cell["ms_per_tick"]
             cell["median_ms"] = statistics.median(times) if times else None
             cell["min_ms"] = min(times) if times else None
+            cell["median_kb_per_body"] = statistics.median(cell["kb_per_body"]) if times else None
         own = row["engines"].get("rustycs", {}).get("median_ms")
         row["ratios"] = {engine: own / cell["median_ms"] for engine, cell in row["engines"].items()
                          if engine != "rustycs" and own is not None and cell["median_ms"]}

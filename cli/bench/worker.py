@@ -11,6 +11,8 @@ blocks of `--block` ticks (world.step(n) runs a block in compiled code), the pee
 tick, with the attractor force set from Python before each, as the peer harness does. `record` times
 what `rustycs run` does with the scene (every tick recorded to HDF5) and its peak memory. `first-step`
 times importing rustycs and its first step (compiling the kernels, or loading them from the cache).
+`step` also reports the resident memory per body the engine's world holds after the run (rustycs's
+world and buffers, not its kernels; a peer's world, not rustycs's world it is described from).
 `--sleep` lets bodies at rest sleep (in every engine, after the same time at rest); `--threads` is the
 threads inside one world (rustycs's world.threads, pyb2d3's workers, pymunk's threaded space).
 """
@@ -18,7 +20,9 @@ threads inside one world (rustycs's world.threads, pyb2d3's workers, pymunk's th
 from __future__ import annotations
 
 import argparse
+import importlib
 import json
+import os
 import sys
 import time
 from typing import Any
@@ -52,16 +56,19 @@ def step(engine: str, ref: str, max_ticks: int | None, block: int, metrics: list
 
     scene = load(ref, sleep).scene
     ticks = scene.world.ticks if max_ticks is None else min(max_ticks, scene.world.ticks)
+    before = resident_bytes()
     began = time.perf_counter()
     world = build_world(scene)
     world.threads = threads
-    bench = describe(scene, world)
+    built = resident_bytes()
+    bench = describe(scene, world)  # (its first call takes 45 MB, not the world's)
     start = np.column_stack([world.positions, world.angles])
     perf = time.perf_counter
     if engine == "rustycs":
         from ..simulation import warm_up
 
         warm_up(threads)  # compiling or loading the kernels is not stepping, nor is making the buffers
+        own = built - before - resident_bytes()  # the world, not the description and kernels
         world.prepare()
         build_s = perf() - began
         step = world.step
@@ -76,6 +83,8 @@ def step(engine: str, ref: str, max_ticks: int | None, block: int, metrics: list
         active = world.active
         ran = dict(sleep=world.sleep, threads=world.threads)
     else:
+        importlib.import_module(engine)  # pymunk and pyb2d3 are their modules' names
+        own = -resident_bytes()  # the peer's world and its stepping, not rustycs's world it is built from
         peer = peers.build(engine, bench, sleep, threads)
         build_s = perf() - began
         tick = peer.step
@@ -86,11 +95,22 @@ def step(engine: str, ref: str, max_ticks: int | None, block: int, metrics: list
         end = np.array(peer.poses(), dtype=np.float64).reshape(-1, 3)
         active = None
         ran = dict(sleep=peer.sleep, threads=peer.threads)
+    own += resident_bytes()
     moving = sum(b.body_type == "dynamic" for b in bench.bodies)
     return dict(engine=engine, scene=scene.name, bodies=moving, ticks=ticks,
                 block=block if engine == "rustycs" else 1, seconds=elapsed,
                 ms_per_tick=1e3 * elapsed / max(ticks, 1), build_s=build_s, **ran,
-                quality=quality.measure(metrics, bench, start, end, active))
+                quality=quality.measure(metrics, bench, start, end, active),
+                kb_per_body=own / 1e3 / max(len(bench.bodies), 1))
+
+
+def resident_bytes() -> int:
+    """This process's resident memory now (Linux's /proc; elsewhere 0, and the memory figures are 0)."""
+    try:
+        with open("/proc/self/statm") as statm:
+            return int(statm.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except OSError:
+        return 0
 
 
 def record(ref: str, max_ticks: int | None, sleep: bool, threads: int) -> dict[str, Any]:
